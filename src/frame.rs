@@ -1,0 +1,82 @@
+//! Rendered images in memory: one equirectangular frame per eye, colour and depth.
+
+/// One equirectangular image (DESIGN §2): sRGB colour with coverage, and ray depth.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frame {
+    /// Width in pixels (`2 * height`).
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Row-major sRGB-encoded colour; alpha is 255 where a sphere was hit, 0 for background.
+    pub color: Vec<[u8; 4]>,
+    /// Row-major distance along the pixel's ray to the hit, metres; `f32::INFINITY` for background.
+    pub depth: Vec<f32>,
+}
+
+impl Frame {
+    /// An empty (all background) frame; the background colour is transparent black.
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Frame {
+            width,
+            height,
+            color: vec![[0, 0, 0, 0]; n],
+            depth: vec![f32::INFINITY; n],
+        }
+    }
+
+    /// Index of pixel (i, j) in the row-major buffers.
+    #[inline]
+    pub fn index(&self, i: u32, j: u32) -> usize {
+        j as usize * self.width as usize + i as usize
+    }
+
+    /// True when pixel (i, j) was hit.
+    #[inline]
+    pub fn covered(&self, i: u32, j: u32) -> bool {
+        self.color[self.index(i, j)][3] != 0
+    }
+
+    /// Number of covered pixels.
+    pub fn coverage_count(&self) -> usize {
+        self.color.iter().filter(|c| c[3] != 0).count()
+    }
+}
+
+/// What a renderer returns: one frame for mono, left and right for ODS.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Rendered {
+    /// A single equirectangular frame.
+    Mono(Frame),
+    /// Left and right eye frames.
+    Stereo {
+        /// Left eye (drawn on top in top-bottom layout).
+        left: Frame,
+        /// Right eye.
+        right: Frame,
+    },
+}
+
+impl Rendered {
+    /// The frames in output order (left first).
+    pub fn frames(&self) -> Vec<&Frame> {
+        match self {
+            Rendered::Mono(f) => vec![f],
+            Rendered::Stereo { left, right } => vec![left, right],
+        }
+    }
+
+    /// Stacks the frames top-bottom (left eye on top, DESIGN §6) into one frame.
+    pub fn top_bottom(&self) -> Frame {
+        match self {
+            Rendered::Mono(f) => f.clone(),
+            Rendered::Stereo { left, right } => {
+                let mut out = left.clone();
+                out.height += right.height;
+                out.color.extend_from_slice(&right.color);
+                out.depth.extend_from_slice(&right.depth);
+                out
+            }
+        }
+    }
+}

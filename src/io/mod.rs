@@ -1,0 +1,1 @@
+//! Point-cloud input: LAS/LAZ and PLY readers, streamed in chunks.

@@ -1,0 +1,17 @@
+//! omnicloud: LiDAR point clouds to 360° equirectangular panoramas and omnidirectional-stereo
+//! (ODS) pairs, by a GPU imposter-sphere rasterizer and an exact CPU ray tracer.
+//!
+//! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
+//! `DESIGN.md`; [`projection`] implements them.
+
+pub mod frame;
+pub mod io;
+pub mod output;
+pub mod projection;
+pub mod raster;
+pub mod raytrace;
+pub mod render;
+pub mod scene;
+
+pub use frame::{Frame, Rendered};
+pub use scene::{Attributes, Radii, Scene};

@@ -1,0 +1,3 @@
+fn main() {
+    eprintln!("omnicloud: the command line is being built");
+}

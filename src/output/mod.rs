@@ -1,0 +1,1 @@
+//! Writing frames: PNG, OpenEXR, ODS layouts and anaglyph previews.

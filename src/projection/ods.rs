@@ -1,0 +1,319 @@
+//! The omnidirectional-stereo ray of a pixel and its exact inverse (DESIGN §3).
+
+use glam::DVec3;
+
+use super::camera::{Basis, Camera};
+use super::equirect::{self, Equirect};
+use super::pole_merge::PoleMerging;
+
+/// Which eye of an ODS pair.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Eye {
+    /// Left eye, sign -1 (top image of a top-bottom pair).
+    Left,
+    /// Right eye, sign +1.
+    Right,
+}
+
+impl Eye {
+    /// The eye's sign `e` in the ODS formulas.
+    pub fn sign(self) -> f64 {
+        match self {
+            Eye::Left => -1.0,
+            Eye::Right => 1.0,
+        }
+    }
+}
+
+/// How the rasterizer maps a world point to an eye's image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum OdsOffset {
+    /// The exact inverse of the ODS ray: `asin(r / rho)`, with the pole-merging fixed point.
+    #[default]
+    Exact,
+    /// Marrinan & Papka's per-vertex offset perpendicular to `P - C`: `atan(r / rho)`.
+    Paper,
+}
+
+/// Mono or omnidirectional stereo.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Stereo {
+    /// One central panorama.
+    Mono,
+    /// An ODS pair.
+    Ods {
+        /// Interocular distance, metres (default 0.064).
+        ipd: f64,
+        /// Pole-merge profiles.
+        merging: PoleMerging,
+        /// Inverse used by the rasterizer.
+        offset: OdsOffset,
+    },
+}
+
+impl Stereo {
+    /// The views this setting renders, in output order (left eye first).
+    pub fn views(&self, camera: Camera) -> Vec<View> {
+        match *self {
+            Stereo::Mono => vec![View::mono(camera)],
+            Stereo::Ods { .. } => vec![
+                View::eye(camera, self, Eye::Left),
+                View::eye(camera, self, Eye::Right),
+            ],
+        }
+    }
+}
+
+/// One eye's (or the mono) projection: everything a renderer needs to map pixels and points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// The camera.
+    pub camera: Camera,
+    /// `e`: -1 left, +1 right, 0 mono.
+    pub eye_sign: f64,
+    /// Half the interocular distance (`ipd / 2`), 0 for mono.
+    pub half_ipd: f64,
+    /// Pole-merge profiles.
+    pub merging: PoleMerging,
+    /// Inverse used by the rasterizer.
+    pub offset: OdsOffset,
+    basis: Basis,
+}
+
+/// Fixed-point iterations before the inverse falls back to bisection.
+pub const FIXED_POINT_ITERATIONS: usize = 8;
+
+impl View {
+    /// The central (mono) view.
+    pub fn mono(camera: Camera) -> Self {
+        View {
+            camera,
+            eye_sign: 0.0,
+            half_ipd: 0.0,
+            merging: PoleMerging::OFF,
+            offset: OdsOffset::Exact,
+            basis: camera.basis(),
+        }
+    }
+
+    /// The view of `eye` under `stereo` (the mono view when `stereo` is mono).
+    pub fn eye(camera: Camera, stereo: &Stereo, eye: Eye) -> Self {
+        match *stereo {
+            Stereo::Mono => View::mono(camera),
+            Stereo::Ods {
+                ipd,
+                merging,
+                offset,
+            } => View {
+                camera,
+                eye_sign: eye.sign(),
+                half_ipd: 0.5 * ipd,
+                merging,
+                offset,
+                basis: camera.basis(),
+            },
+        }
+    }
+
+    /// The camera frame.
+    pub fn basis(&self) -> &Basis {
+        &self.basis
+    }
+
+    /// Viewing-circle radius `r(phi) = (ipd / 2) * merge(phi)`.
+    #[inline]
+    pub fn circle_radius(&self, phi: f64) -> f64 {
+        if self.half_ipd == 0.0 {
+            0.0
+        } else {
+            self.half_ipd * self.merging.factor(phi)
+        }
+    }
+
+    /// The ray of longitude `lam`, latitude `phi`: origin and unit direction (DESIGN §3).
+    #[inline]
+    pub fn ray(&self, lam: f64, phi: f64) -> (DVec3, DVec3) {
+        let b = &self.basis;
+        let dir = equirect::direction(b, lam, phi);
+        if self.eye_sign == 0.0 {
+            return (self.camera.center, dir);
+        }
+        let (sl, cl) = lam.sin_cos();
+        let side = cl * b.right - sl * b.forward;
+        let origin = self.camera.center + self.eye_sign * self.circle_radius(phi) * side;
+        (origin, dir)
+    }
+
+    /// The ray through the centre of pixel `(i, j)` of `image`.
+    #[inline]
+    pub fn pixel_ray(&self, image: &Equirect, i: u32, j: u32) -> (DVec3, DVec3) {
+        let (lam, phi) = image.pixel_angles(i, j);
+        self.ray(lam, phi)
+    }
+
+    /// Longitude and latitude at which world point `p` appears in this view, or `None` when
+    /// `p` has no projection (inside the viewing circle, or at the camera centre).
+    ///
+    /// `Exact` inverts [`View::ray`]: `lam = lamC - e asin(r / rho)`,
+    /// `phi = atan2(dz, sqrt(rho^2 - r^2))`, `r = r(phi)` solved as a fixed point.
+    pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
+        let b = &self.basis;
+        let v = p - self.camera.center;
+        let (x, y, z) = (v.dot(b.right), v.dot(b.forward), v.dot(b.up));
+        let rho = x.hypot(y);
+        let lam_c = x.atan2(y);
+        if self.eye_sign == 0.0 || self.half_ipd == 0.0 {
+            if rho == 0.0 && z == 0.0 {
+                return None;
+            }
+            return Some((lam_c, z.atan2(rho)));
+        }
+        match self.offset {
+            OdsOffset::Exact => {
+                let r = self.solve_circle_radius(rho, z)?;
+                let phi = z.atan2((rho * rho - r * r).max(0.0).sqrt());
+                let dlam = if r == 0.0 {
+                    0.0
+                } else {
+                    (r / rho).min(1.0).asin()
+                };
+                Some((equirect::wrap_longitude(lam_c - self.eye_sign * dlam), phi))
+            }
+            OdsOffset::Paper => {
+                if rho == 0.0 && z == 0.0 {
+                    return None;
+                }
+                let r = self.circle_radius(z.atan2(rho));
+                let phi = z.atan2(rho.hypot(r));
+                let dlam = if rho == 0.0 { 0.0 } else { (r / rho).atan() };
+                Some((equirect::wrap_longitude(lam_c - self.eye_sign * dlam), phi))
+            }
+        }
+    }
+
+    /// Continuous image position of world point `p`, or `None` when it has no projection.
+    pub fn project_to_image(&self, image: &Equirect, p: DVec3) -> Option<(f64, f64)> {
+        self.project(p)
+            .map(|(lam, phi)| image.position_of_angles(lam, phi))
+    }
+
+    /// Solves `r = r(atan2(z, sqrt(rho^2 - r^2)))` for a point at horizontal distance `rho`
+    /// and height `z` above the camera; `None` when the point lies inside the viewing circle.
+    ///
+    /// `g(r) = r(phi(r)) - r` decreases in `r` (merging never grows towards a pole), so the
+    /// root in `[0, min(rho, ipd/2)]` is unique and exists iff `g(rho) <= 0`.
+    pub fn solve_circle_radius(&self, rho: f64, z: f64) -> Option<f64> {
+        let phi_of = |r: f64| z.atan2((rho * rho - r * r).max(0.0).sqrt());
+        if self.circle_radius(phi_of(rho)) > rho {
+            return None;
+        }
+        if rho == 0.0 {
+            return Some(0.0);
+        }
+        // Fixed point from the latitude seen from C: converges in a few steps for the
+        // profiles in use; bisection guards the steep ones.
+        let mut r = self.circle_radius(z.atan2(rho)).min(rho);
+        for _ in 0..FIXED_POINT_ITERATIONS {
+            let next = self.circle_radius(phi_of(r)).min(rho);
+            if (next - r).abs() <= 1e-13 * self.half_ipd {
+                return Some(next);
+            }
+            r = next;
+        }
+        let (mut lo, mut hi) = (0.0, rho.min(self.half_ipd));
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if self.circle_radius(phi_of(mid)) > mid {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(0.5 * (lo + hi))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projection::PoleMerge;
+
+    fn ods(merging: PoleMerging) -> Stereo {
+        Stereo::Ods {
+            ipd: 0.064,
+            merging,
+            offset: OdsOffset::Exact,
+        }
+    }
+
+    #[test]
+    fn rays_are_tangent_to_the_viewing_circle() {
+        let cam = Camera::new(DVec3::new(1.0, 2.0, 3.0), 20.0);
+        let v = View::eye(cam, &ods(PoleMerging::OFF), Eye::Right);
+        for &(lam, phi) in &[(0.0, 0.0), (2.0, 0.3), (-2.5, -0.9)] {
+            let (o, d) = v.ray(lam, phi);
+            let oh = (o - cam.center).truncate();
+            assert!((oh.length() - 0.032).abs() < 1e-12);
+            assert!(oh.dot(d.truncate()).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn right_eye_sees_a_point_ahead_shifted_left() {
+        let cam = Camera::new(DVec3::ZERO, 0.0);
+        let v = View::eye(cam, &ods(PoleMerging::OFF), Eye::Right);
+        let (lam, phi) = v.project(DVec3::new(0.0, 10.0, 0.0)).unwrap();
+        assert!((lam + (0.032f64 / 10.0).asin()).abs() < 1e-12);
+        assert!(phi.abs() < 1e-12);
+    }
+
+    #[test]
+    fn inside_the_viewing_circle_is_unprojectable() {
+        let cam = Camera::new(DVec3::ZERO, 0.0);
+        let v = View::eye(cam, &ods(PoleMerging::OFF), Eye::Left);
+        assert!(v.project(DVec3::new(0.01, 0.01, 0.0)).is_none());
+        assert!(v.project(DVec3::new(0.0, 0.0, 5.0)).is_none());
+        let merged = View::eye(
+            cam,
+            &ods(PoleMerging::both(PoleMerge::COMFORTABLE)),
+            Eye::Left,
+        );
+        let (_, phi) = merged.project(DVec3::new(0.0, 0.0, 5.0)).unwrap();
+        assert!((phi - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn paper_offset_differs_by_asin_minus_atan() {
+        let cam = Camera::new(DVec3::ZERO, 0.0);
+        let Stereo::Ods { ipd, merging, .. } = ods(PoleMerging::OFF) else {
+            unreachable!()
+        };
+        let paper = Stereo::Ods {
+            ipd,
+            merging,
+            offset: OdsOffset::Paper,
+        };
+        let v = View::eye(cam, &paper, Eye::Right);
+        let (lam, _) = v.project(DVec3::new(0.0, 0.5, 0.0)).unwrap();
+        assert!((lam + (0.032f64 / 0.5).atan()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn fixed_point_converges_in_three_iterations_for_cycles_and_comfortable() {
+        let cam = Camera::new(DVec3::ZERO, 0.0);
+        for profile in [PoleMerge::COMFORTABLE, PoleMerge::CYCLES_DEFAULT] {
+            let v = View::eye(cam, &ods(PoleMerging::both(profile)), Eye::Right);
+            for k in 1..200 {
+                let phi_c = (k as f64 * 0.45f64).to_radians();
+                let (rho, z) = (2.0 * phi_c.cos(), 2.0 * phi_c.sin());
+                let exact = v.solve_circle_radius(rho, z).unwrap();
+                let phi_of = |r: f64| z.atan2((rho * rho - r * r).sqrt());
+                let mut r = v.circle_radius(z.atan2(rho));
+                for _ in 0..3 {
+                    r = v.circle_radius(phi_of(r));
+                }
+                assert!((r - exact).abs() < 1e-9, "profile {profile:?} phi {phi_c}");
+            }
+        }
+    }
+}

@@ -1,0 +1,1 @@
+//! GPU imposter-sphere rasterizer (wgpu).

@@ -1,0 +1,1 @@
+//! CPU ray tracer: the exact accuracy reference (obvhs BVH over spheres).
