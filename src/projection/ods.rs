@@ -82,6 +82,8 @@ pub struct View {
 
 /// Fixed-point iterations before the inverse falls back to bisection.
 pub const FIXED_POINT_ITERATIONS: usize = 8;
+/// Bisection steps of the inverse's fallback (halves `[0, rho]` to f64 resolution).
+pub const BISECTION_STEPS: usize = 64;
 
 impl View {
     /// The central (mono) view.
@@ -170,13 +172,13 @@ impl View {
         }
         match self.offset {
             OdsOffset::Exact => {
-                let r = self.solve_circle_radius(rho, z)?;
-                let phi = z.atan2((rho * rho - r * r).max(0.0).sqrt());
-                let dlam = if r == 0.0 {
-                    0.0
-                } else {
-                    (r / rho).min(1.0).asin()
-                };
+                // Solve for the horizontal run `s` of the ray to the point, then take r from
+                // the latitude so the returned ray passes through `p` even where the fixed
+                // point is ill-conditioned (steep profiles, points near the circle).
+                let s_run = self.solve_ray_run(rho, z)?;
+                let phi = z.atan2(s_run);
+                let r = self.circle_radius(phi);
+                let dlam = r.atan2(s_run);
                 Some((equirect::wrap_longitude(lam_c - self.eye_sign * dlam), phi))
             }
             OdsOffset::Paper => {
@@ -199,31 +201,41 @@ impl View {
 
     /// Solves `r = r(atan2(z, sqrt(rho^2 - r^2)))` for a point at horizontal distance `rho`
     /// and height `z` above the camera; `None` when the point lies inside the viewing circle.
-    ///
-    /// `g(r) = r(phi(r)) - r` decreases in `r` (merging never grows towards a pole), so the
-    /// root in `[0, min(rho, ipd/2)]` is unique and exists iff `g(rho) <= 0`.
     pub fn solve_circle_radius(&self, rho: f64, z: f64) -> Option<f64> {
-        let phi_of = |r: f64| z.atan2((rho * rho - r * r).max(0.0).sqrt());
-        if self.circle_radius(phi_of(rho)) > rho {
+        self.solve_ray_run(rho, z)
+            .map(|s| self.circle_radius(z.atan2(s)))
+    }
+
+    /// Horizontal run `s = sqrt(rho^2 - r^2)` from the ray origin to a point at horizontal
+    /// distance `rho` and height `z` above the camera, where `r = r(atan2(z, s))`; `None` when
+    /// the point lies inside the viewing circle.
+    ///
+    /// `G(s) = r(atan2(z, s))^2 + s^2 - rho^2` increases with `s` (merging never grows
+    /// towards a pole), so the root in `[0, rho]` is unique and exists iff `G(0) <= 0`.
+    pub fn solve_ray_run(&self, rho: f64, z: f64) -> Option<f64> {
+        let radius_at_run = |s: f64| self.circle_radius(z.atan2(s));
+        if radius_at_run(0.0) > rho {
             return None;
         }
         if rho == 0.0 {
             return Some(0.0);
         }
-        // Fixed point from the latitude seen from C: converges in a few steps for the
-        // profiles in use; bisection guards the steep ones.
+        // Fixed point on r from the latitude seen from C: converges in a few steps for the
+        // profiles in use; bisection on s guards the steep ones.
+        let run_of = |r: f64| (rho * rho - r * r).max(0.0).sqrt();
         let mut r = self.circle_radius(z.atan2(rho)).min(rho);
         for _ in 0..FIXED_POINT_ITERATIONS {
-            let next = self.circle_radius(phi_of(r)).min(rho);
+            let next = radius_at_run(run_of(r)).min(rho);
             if (next - r).abs() <= 1e-13 * self.half_ipd {
-                return Some(next);
+                return Some(run_of(next));
             }
             r = next;
         }
-        let (mut lo, mut hi) = (0.0, rho.min(self.half_ipd));
-        for _ in 0..64 {
+        let (mut lo, mut hi) = (0.0, rho);
+        for _ in 0..BISECTION_STEPS {
             let mid = 0.5 * (lo + hi);
-            if self.circle_radius(phi_of(mid)) > mid {
+            let r = radius_at_run(mid);
+            if r * r + mid * mid < rho * rho {
                 lo = mid;
             } else {
                 hi = mid;
