@@ -98,7 +98,7 @@ mod tests {
     #[test]
     fn angles_invert_direction() {
         let b = Camera::new(DVec3::ZERO, -71.0).basis();
-        for &(lam, phi) in &[(0.3, 0.2), (-3.1, -1.5), (3.14, 1.56), (-0.7, 0.0)] {
+        for &(lam, phi) in &[(0.3, 0.2), (-3.1, -1.5), (3.1, 1.56), (-0.7, 0.0)] {
             let (l2, p2) = angles(&b, direction(&b, lam, phi));
             assert!((l2 - lam).abs() < 1e-12 && (p2 - phi).abs() < 1e-12);
         }
