@@ -4,6 +4,7 @@
 //! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
 //! `DESIGN.md`; [`projection`] implements them.
 
+pub mod compare;
 pub mod frame;
 pub mod io;
 pub mod output;
