@@ -96,9 +96,9 @@ impl LegendLayout {
             x += swatch_size + 2 * u + text_width(label, u) + 3 * u;
             at
         });
-        x += text_width(RAMP_LABEL, u) + u;
-        // The ramp takes the rest of the width, keeping room for its last label.
-        let end = width.saturating_sub(6 * u).max(x + 10 * u);
+        x += 3 * u + text_width(RAMP_LABEL, u) + u;
+        // The ramp takes the rest of the width, keeping room for half of its last label.
+        let end = width.saturating_sub(10 * u).max(x + 10 * u);
         LegendLayout {
             top: height,
             height: 18 * u,

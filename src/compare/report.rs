@@ -92,6 +92,7 @@ impl fmt::Display for CompareReport {
             let worst = e
                 .latitude_bands
                 .iter()
+                .rev() // max_by keeps the last of equals: report the topmost band
                 .max_by(|a, b| a.mismatch_percent.total_cmp(&b.mismatch_percent));
             if let Some(w) = worst.filter(|w| w.mismatch > 0) {
                 writeln!(
