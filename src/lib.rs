@@ -5,6 +5,7 @@
 //! `DESIGN.md`; [`projection`] implements them.
 
 pub mod cli;
+pub mod compare;
 pub mod frame;
 pub mod io;
 pub mod output;
