@@ -7,6 +7,7 @@
 pub mod frame;
 pub mod io;
 pub mod output;
+pub mod placement;
 pub mod projection;
 pub mod raster;
 pub mod raytrace;
