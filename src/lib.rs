@@ -9,6 +9,7 @@ pub mod compare;
 pub mod frame;
 pub mod io;
 pub mod output;
+pub mod placement;
 pub mod projection;
 pub mod raster;
 pub mod raytrace;
