@@ -8,6 +8,7 @@ pub mod frame;
 pub mod io;
 pub mod output;
 pub mod projection;
+pub mod radius;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
