@@ -11,6 +11,7 @@ pub mod io;
 pub mod output;
 pub mod placement;
 pub mod projection;
+pub mod radius;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
