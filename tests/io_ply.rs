@@ -296,6 +296,12 @@ fn utm_scale_points_keep_millimetres_next_to_an_auto_placed_camera() {
         (got - want).abs().max_element() < 1e-3 * 0.01,
         "{got} vs {want}"
     );
+    // Storing absolute UTM coordinates in f32 would not: its spacing there is 6 cm.
+    let naive = (marker.as_vec3() - camera_world.as_vec3()).as_dvec3();
+    assert!(
+        (naive - want).abs().max_element() > 1e-3,
+        "the check above would not bite"
+    );
     // The same file loaded with the camera as origin agrees to well under a millimetre.
     let direct = LoadOptions {
         origin: Some(camera_world),
