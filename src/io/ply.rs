@@ -314,6 +314,35 @@ fn skip_element(
     Ok(())
 }
 
+/// Parses one ascii vertex line. Done here rather than by `ply-rs-bw`, whose grammar rejects
+/// `nan` and `inf`: those points must reach `load_scene` to be dropped and counted.
+fn parse_ascii_vertex(line: &str, def: &ElementDef) -> Result<PlyVertex, String> {
+    let mut tokens = line.split_ascii_whitespace();
+    let mut vertex = PlyVertex::new();
+    for (name, property) in &def.properties {
+        let token = tokens
+            .next()
+            .ok_or_else(|| format!("line '{}' has too few values", line.trim()))?;
+        match property.data_type {
+            PropertyType::Scalar(_) => {
+                let v: f64 = token
+                    .parse()
+                    .map_err(|_| format!("'{token}' is not a number (property '{name}')"))?;
+                vertex.set_property(name, Property::Double(v));
+            }
+            PropertyType::List(..) => {
+                let n: usize = token
+                    .parse()
+                    .map_err(|_| format!("'{token}' is not a list length (property '{name}')"))?;
+                if tokens.by_ref().take(n).count() != n {
+                    return Err(format!("list '{name}' is shorter than its length {n}"));
+                }
+            }
+        }
+    }
+    Ok(vertex)
+}
+
 impl PlySource {
     fn corrupt(&self, detail: String) -> LoadError {
         LoadError::CorruptPoints {
@@ -331,7 +360,10 @@ impl PlySource {
                 match self.reader.get_mut().read_line(&mut self.line) {
                     Ok(0) => return Err(self.corrupt("the file ends early".into())),
                     Ok(_) if self.line.trim().is_empty() => continue,
-                    Ok(_) => break self.parser.read_ascii_element(&self.line, &self.vertex),
+                    Ok(_) => {
+                        return parse_ascii_vertex(&self.line, &self.vertex)
+                            .map_err(|e| self.corrupt(e));
+                    }
                     Err(e) => return Err(self.corrupt(e.to_string())),
                 }
             },
