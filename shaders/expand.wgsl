@@ -69,7 +69,7 @@ fn cap_rect(b: Basis, s: vec3<f32>, radius: f32) -> Rect {
     let z = dot(s, b.up);
     let rho = length(vec2<f32>(x, y));
     let d = length(s);
-    let a = asin(min(radius / d, 1.0));
+    let a = asin_accurate(min(radius / d, 1.0));
     let phi = atan2(z, rho);
     if radius >= rho * (1.0 - 1e-4) {
         if z > 0.0 {
@@ -78,7 +78,7 @@ fn cap_rect(b: Basis, s: vec3<f32>, radius: f32) -> Rect {
         return Rect(vec2<f32>(-PI, -FRAC_PI_2), vec2<f32>(PI, phi + a));
     }
     let lam = atan2(x, y);
-    let half = asin(radius / rho);
+    let half = asin_accurate(radius / rho);
     return Rect(vec2<f32>(lam - half, phi - a), vec2<f32>(lam + half, phi + a));
 }
 
@@ -117,8 +117,8 @@ fn sphere_bounds(v: View, s: vec3<f32>, radius: f32) -> Bounds {
     let phi_lo = min(mono.lo.y, atan(kmax * tan(mono.lo.y)));
     let phi_hi = max(mono.hi.y, atan(kmax * tan(mono.hi.y)));
     let rmin = h * min(merge(v, phi_lo), merge(v, phi_hi));
-    let o1 = v.eye_sign * asin(rmin / rho_max);
-    let o2 = v.eye_sign * asin(rmax / rho_min);
+    let o1 = v.eye_sign * asin_accurate(rmin / rho_max);
+    let o2 = v.eye_sign * asin_accurate(rmax / rho_min);
     let lam_lo = mono.lo.x - max(o1, o2);
     let lam_hi = mono.hi.x - min(o1, o2);
     return Bounds(Rect(vec2<f32>(lam_lo, phi_lo), vec2<f32>(lam_hi, phi_hi)), false);

@@ -24,6 +24,12 @@ struct Projected {
     ok: bool,
 }
 
+// asin through atan2: llvmpipe's asin is off by ~2e-4 rad near 0.5 (Vulkan allows asin the
+// error of atan2(x, sqrt(1 - x^2)) only), while its atan2 holds f32 accuracy.
+fn asin_accurate(x: f32) -> f32 {
+    return atan2(x, sqrt(max((1.0 - x) * (1.0 + x), 0.0)));
+}
+
 const FIXED_POINT_ITERATIONS: i32 = 8;
 // f32 bisection halves [0, ipd/2] to below f32 resolution in 24 steps.
 const BISECTION_STEPS: i32 = 24;
@@ -106,7 +112,7 @@ fn project(v: View, p: vec3<f32>) -> Projected {
         let phi = latitude_for_radius(rho, z, r);
         var dlam = 0.0;
         if r > 0.0 {
-            dlam = asin(min(r / rho, 1.0));
+            dlam = asin_accurate(min(r / rho, 1.0));
         }
         return Projected(vec2<f32>(wrap_longitude(lam_c - v.eye_sign * dlam), phi), true);
     }

@@ -99,20 +99,36 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
     let bounds = &results[0].2;
     assert!(bounds.coverage_fraction() <= 1e-3);
     for (proxy, imposter, a) in &results[1..] {
-        if *proxy == Proxy::Dynamic {
+        // Every billboard under-covers near spheres (a square of half-size r subtends
+        // atan(r/d) < asin(r/d)) and bows at high latitude: a real, chartable difference.
+        assert!(
+            a.coverage_fraction() > 0.005 && a.coverage_diff > 20 * bounds.coverage_diff.max(1),
+            "{proxy:?}+{imposter:?}: total {} vs bounds {}",
+            a.coverage_diff,
+            bounds.coverage_diff
+        );
+    }
+    // The untessellated quad (the paper's "No Tess.") is worse than bounds at the poles and
+    // the seam in particular, with either fragment model.
+    for (proxy, imposter, a) in &results[1..] {
+        if *proxy != Proxy::Quad {
             continue;
         }
         assert!(
-            a.pole_coverage_diff > 10 * bounds.pole_coverage_diff.max(5),
+            a.pole_coverage_diff > bounds.pole_coverage_diff + 20,
             "{proxy:?}+{imposter:?} poles: {} vs bounds {}",
             a.pole_coverage_diff,
             bounds.pole_coverage_diff
         );
         assert!(
-            a.seam_coverage_diff > 2 * bounds.seam_coverage_diff.max(5),
+            a.seam_coverage_diff > bounds.seam_coverage_diff + 10,
             "{proxy:?}+{imposter:?} seam: {} vs bounds {}",
             a.seam_coverage_diff,
             bounds.seam_coverage_diff
         );
     }
+    // Tessellation fixes most of the pole error: static:4 sits between quad and bounds.
+    let (quad, static4) = (&results[1].2, &results[2].2);
+    assert!(static4.pole_coverage_diff < quad.pole_coverage_diff);
+    assert!(static4.pole_coverage_diff >= bounds.pole_coverage_diff);
 }
