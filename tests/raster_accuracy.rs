@@ -118,3 +118,17 @@ fn sphere_enclosing_the_eye_shows_its_inside() {
         "enclosing ods",
     );
 }
+
+#[test]
+fn small_batches_through_one_depth_buffer_give_the_same_frames() {
+    let Some(mut raster) = rasterizer() else { return };
+    let scene = stress_scene(1500);
+    let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+    let (whole, one) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+    raster.set_batch_limit(Some(97));
+    let (batched, many) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+    assert_eq!(one.batches, 2);
+    assert_eq!(many.batches, 2 * scene.len().div_ceil(97) as u64);
+    assert_eq!(one.drawn, many.drawn);
+    assert!(whole == batched, "batched frames differ");
+}

@@ -59,6 +59,7 @@ const MAX_EYES: usize = 2;
 pub struct Rasterizer {
     pub(crate) ctx: GpuContext,
     pipelines: Pipelines,
+    batch_limit: Option<u32>,
 }
 
 /// A scene's points and colours on the GPU, relative to one camera centre.
@@ -92,7 +93,17 @@ impl Rasterizer {
     pub fn new() -> Result<Self, RasterError> {
         let ctx = GpuContext::new()?;
         let pipelines = Pipelines::new(&ctx)?;
-        Ok(Rasterizer { ctx, pipelines })
+        Ok(Rasterizer {
+            ctx,
+            pipelines,
+            batch_limit: None,
+        })
+    }
+
+    /// Caps the points per expand/draw batch (default: as many as the vertex buffer holds).
+    /// Smaller batches exercise the chunked path; results must not change.
+    pub fn set_batch_limit(&mut self, points: Option<u32>) {
+        self.batch_limit = points;
     }
 
     /// The adapter's name and backend.
@@ -234,6 +245,7 @@ impl Rasterizer {
         let max_groups = ctx.limits.max_compute_workgroups_per_dimension as u64;
         let batch = (vertex_capacity / per_point)
             .min(max_groups * EXPAND_WORKGROUP as u64)
+            .min(self.batch_limit.map_or(u64::MAX, u64::from))
             .max(1);
         let vertex_capacity = (batch * per_point).min(vertex_capacity) as u32;
         if (vertex_capacity as u64) < per_point {
