@@ -121,7 +121,9 @@ fn sphere_enclosing_the_eye_shows_its_inside() {
 
 #[test]
 fn small_batches_through_one_depth_buffer_give_the_same_frames() {
-    let Some(mut raster) = rasterizer() else { return };
+    let Some(mut raster) = rasterizer() else {
+        return;
+    };
     let scene = stress_scene(1500);
     let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
     let (whole, one) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();

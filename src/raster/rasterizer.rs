@@ -218,6 +218,39 @@ impl Rasterizer {
         Ok(())
     }
 
+    /// Seconds between the two timestamps of `query`, or `None` when they make no sense.
+    fn read_timestamps(&self, query: &wgpu::QuerySet) -> Result<Option<f64>, RasterError> {
+        let device = &self.ctx.device;
+        let (resolve, read) = self.ctx.scoped("reading timestamps", || {
+            let make = |label, usage| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: 16,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            (
+                make(
+                    "timestamps",
+                    wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                ),
+                make(
+                    "timestamps read-back",
+                    wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                ),
+            )
+        })?;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        encoder.resolve_query_set(query, 0..2, &resolve, 0);
+        encoder.copy_buffer_to_buffer(&resolve, 0, &read, 0, None);
+        self.ctx.queue.submit([encoder.finish()]);
+        let raw = map_read(&self.ctx, &read, "reading timestamps")?;
+        let t: Vec<u64> = bytemuck::pod_collect_to_vec(&raw);
+        let period_ns = self.ctx.queue.get_timestamp_period() as f64;
+        Ok((t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period_ns * 1e-9))
+    }
+
     /// Renders an uploaded scene; also returns the time the expand and draw work took.
     pub fn render_uploaded(
         &self,
@@ -287,6 +320,22 @@ impl Rasterizer {
                 )
             })?;
 
+        // GPU timestamps: the start of the first expand pass and the end of the last draw.
+        let query = self.ctx.timestamps.then(|| {
+            device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("frame time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            })
+        });
+        let total_steps = uploaded
+            .chunks
+            .iter()
+            .map(|c| c.len.div_ceil(batch as u32) as u64)
+            .sum::<u64>()
+            * views.len() as u64;
+        let mut step = 0u64;
+
         let started = Instant::now();
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&stats_buf, 0, None);
@@ -338,14 +387,32 @@ impl Rasterizer {
                     ctx.queue
                         .write_buffer(&args, 0, bytemuck::cast_slice(&[0u32, 1, 0, 0]));
                     let mut encoder = device.create_command_encoder(&Default::default());
+                    let (first_step, last_step) = (step == 0, step + 1 == total_steps);
+                    step += 1;
                     {
-                        let mut pass = encoder.begin_compute_pass(&Default::default());
+                        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                            label: Some("expand"),
+                            timestamp_writes: query.as_ref().filter(|_| first_step).map(|q| {
+                                wgpu::ComputePassTimestampWrites {
+                                    query_set: q,
+                                    beginning_of_pass_write_index: Some(0),
+                                    end_of_pass_write_index: None,
+                                }
+                            }),
+                        });
                         pass.set_pipeline(&self.pipelines.expand);
                         pass.set_bind_group(0, &expand_bg, &[]);
                         pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
                     }
                     {
-                        let mut pass = target.begin_pass(&mut encoder, false);
+                        let writes = query.as_ref().filter(|_| last_step).map(|q| {
+                            wgpu::RenderPassTimestampWrites {
+                                query_set: q,
+                                beginning_of_pass_write_index: None,
+                                end_of_pass_write_index: Some(1),
+                            }
+                        });
+                        let mut pass = target.begin_pass(&mut encoder, false, writes);
                         pass.set_pipeline(&self.pipelines.imposter);
                         pass.set_bind_group(0, &draw_bg, &[]);
                         pass.set_vertex_buffer(0, vertices.slice(..));
@@ -361,9 +428,20 @@ impl Rasterizer {
             }
         }
         ctx.wait("drawing imposters")?;
-        let timing = FrameTiming {
-            seconds: started.elapsed().as_secs_f64(),
-            source: TimingSource::WallClock,
+        let wall = started.elapsed().as_secs_f64();
+        let gpu = match &query {
+            Some(q) if total_steps > 0 => self.read_timestamps(q)?,
+            _ => None,
+        };
+        let timing = match gpu {
+            Some(seconds) => FrameTiming {
+                seconds,
+                source: TimingSource::GpuTimestamps,
+            },
+            None => FrameTiming {
+                seconds: wall,
+                source: TimingSource::WallClock,
+            },
         };
 
         let raw = map_read(

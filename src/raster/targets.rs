@@ -77,7 +77,7 @@ impl EyeTargets {
     /// Records a pass that clears all three targets to background.
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         let _ = &self.depth;
-        drop(self.begin_pass(encoder, true));
+        drop(self.begin_pass(encoder, true, None));
     }
 
     /// Begins a render pass into these targets, clearing them first when `clear`.
@@ -85,6 +85,7 @@ impl EyeTargets {
         &self,
         encoder: &'e mut wgpu::CommandEncoder,
         clear: bool,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> wgpu::RenderPass<'e> {
         let color_load = |c| {
             if clear {
@@ -127,7 +128,7 @@ impl EyeTargets {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         })
