@@ -1,7 +1,8 @@
 //! Frame times of the rasterizer per proxy/imposter mode on a generated cloud.
 //!
-//! `cargo run --release --example raster_perf -- [points] [width] [frames]`
-//! (defaults: 1000000 points, 1920 wide, 3 frames). Prints the adapter, the timing source
+//! `cargo run --release --example raster_perf -- [points] [width] [frames] [modes]`
+//! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
+//! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`). Prints the adapter, the timing source
 //! (GPU timestamps or wall clock) and, per mode, mono and ODS frame times.
 
 use glam::{DVec3, Vec3};
@@ -51,6 +52,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .unwrap_or(1_000_000);
     let width: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1920);
     let frames: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(3);
+    let modes: Option<Vec<String>> = args
+        .get(4)
+        .map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
     let raster = Rasterizer::new()?;
     println!("adapter: {}", raster.adapter_name());
     let scene = cloud(points);
@@ -78,6 +82,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             (Proxy::Dynamic, Imposter::Sprite),
             (Proxy::Dynamic, Imposter::Raycast),
         ] {
+            let name = format!("{proxy:?}-{imposter:?}")
+                .to_lowercase()
+                .replace(['(', ')'], "");
+            if modes.as_ref().is_some_and(|m| !m.contains(&name)) {
+                continue;
+            }
             let mut s = base;
             s.stereo = stereo;
             s.proxy = proxy;
