@@ -10,7 +10,7 @@ use crate::output::{AnaglyphMethod, ImageFormat, Layout};
 use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
-use crate::{Rendered, output, placement, radius, raytrace};
+use crate::{Rendered, output, placement, radius, raster, raytrace};
 
 use super::args::{RenderArgs, StereoArg, UpArg};
 use super::parse::RadiusChoice;
@@ -119,7 +119,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             r
         }
         RendererKind::Raster => {
-            bail!("the GPU rasterizer is not merged yet; use --renderer raytrace")
+            let rasterizer = raster::Rasterizer::new()?;
+            let pb = progress::bar(args.quiet, scene.len() as u64, "rasterizing");
+            let (r, stats) = rasterizer.render(&scene, &settings, &pb)?;
+            pb.finish_and_clear();
+            say(format!("{} ({})", stats, rasterizer.adapter_name()));
+            r
         }
     };
     say(format!("rendered in {:.2?}", render_start.elapsed()));

@@ -23,10 +23,18 @@ pub struct GpuContext {
 impl GpuContext {
     /// Creates a device on the best adapter: Vulkan first, then any backend.
     pub fn new() -> Result<Self, RasterError> {
-        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
-        desc.backends = wgpu::Backends::all();
-        let instance = wgpu::Instance::new(desc);
-        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        // Probe Vulkan alone first: the GL backend's EGL probing prints display-server
+        // errors on headless machines, and Vulkan is what we want wherever it exists.
+        let enumerate = |backends: wgpu::Backends| {
+            let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+            desc.backends = backends;
+            let instance = wgpu::Instance::new(desc);
+            pollster::block_on(instance.enumerate_adapters(backends))
+        };
+        let mut adapters = enumerate(wgpu::Backends::VULKAN);
+        if adapters.is_empty() {
+            adapters = enumerate(wgpu::Backends::all() - wgpu::Backends::VULKAN);
+        }
         let rank = |a: &wgpu::Adapter| {
             let info = a.get_info();
             let backend = if info.backend == wgpu::Backend::Vulkan {

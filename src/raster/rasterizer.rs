@@ -34,6 +34,17 @@ pub struct RasterStats {
     pub batches: u64,
 }
 
+impl std::fmt::Display for RasterStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} proxies drawn ({} special, {} seam copies, {} vertices, {} batches), \
+             {} points inside the viewing circle",
+            self.drawn, self.special, self.seam_copies, self.vertices, self.batches, self.culled
+        )
+    }
+}
+
 /// How a frame time was measured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TimingSource {
