@@ -58,15 +58,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             args.file.display()
         );
     }
-    let camera_world = match args.camera {
-        Some(c) => c,
-        None => {
-            let local = placement::auto_camera_position(&scene)
-                .context("could not place the camera automatically; pass --camera X,Y,Z")?;
-            scene.origin + local
-        }
-    };
-    scene.recenter(camera_world);
+    let camera_world = placement::center_on_camera(&mut scene, args.camera)
+        .context("could not place the camera automatically; pass --camera X,Y,Z")?;
 
     match args.radius {
         Some(RadiusChoice::Fixed(r)) => scene.radii = Radii::Uniform(r),
