@@ -13,6 +13,7 @@ pub mod raster;
 pub mod raytrace;
 pub mod render;
 pub mod scene;
+pub mod suite;
 
 pub use frame::{Frame, Rendered};
 pub use scene::{Attributes, Radii, Scene};
