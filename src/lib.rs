@@ -5,10 +5,13 @@
 //! `DESIGN.md`; [`projection`] implements them.
 
 pub mod cli;
+pub mod compare;
 pub mod frame;
 pub mod io;
 pub mod output;
+pub mod placement;
 pub mod projection;
+pub mod radius;
 pub mod raster;
 pub mod raytrace;
 pub mod render;

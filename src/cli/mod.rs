@@ -2,16 +2,58 @@
 
 pub mod args;
 pub mod parse;
+mod progress;
+mod render;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result};
 
 pub use args::{Cli, Command};
 
 /// Runs one parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Info { .. } | Command::Render(_) | Command::Compare(_) => {
-            bail!("this command is not available yet: the renderers are being built")
+        Command::Info { file } => info(&file),
+        Command::Render(args) => render::run(&args),
+        Command::Compare(args) => {
+            let report = crate::compare::compare_files(
+                &args.reference,
+                &args.test,
+                args.report.as_deref(),
+                args.heatmap.as_deref(),
+            )?;
+            println!("{report}");
+            Ok(())
         }
     }
+}
+
+fn info(file: &std::path::Path) -> Result<()> {
+    let reader = crate::io::open(file)?;
+    println!("{}", reader.info());
+    let (scene, report) = crate::io::load_scene(file, &crate::io::LoadOptions::default())
+        .with_context(|| format!("reading the points of {}", file.display()))?;
+    if let Some(scale) = report.color_scale {
+        let how = match scale {
+            crate::io::ColorScale::Direct8 => "8-bit values",
+            crate::io::ColorScale::Low8In16 => {
+                "0-255 values stored in 16-bit fields (used as they are)"
+            }
+            crate::io::ColorScale::Full16 => "full 0-65535 range (scaled by 1/256)",
+        };
+        println!("colour scale:  {how}");
+    }
+    if report.dropped_nonfinite > 0 {
+        println!(
+            "dropped:       {} points with NaN/inf coordinates",
+            report.dropped_nonfinite
+        );
+    }
+    match crate::radius::median_spacing(&scene) {
+        Some(s) => println!(
+            "spacing:       {s:.4} m median nearest-neighbour (auto radius {:.4} m)",
+            crate::radius::auto_radius(&scene)
+        ),
+        None => println!("spacing:       n/a (fewer than two distinct points)"),
+    }
+    Ok(())
 }

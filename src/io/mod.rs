@@ -1,1 +1,226 @@
 //! Point-cloud input: LAS/LAZ and PLY readers, streamed in chunks.
+//!
+//! [`open`] detects the format (magic bytes first, extension second), reads the header into a
+//! [`FileInfo`] and returns a [`PointReader`] whose [`PointReader::chunks`] streams the points
+//! in file coordinates (f64) with memory proportional to the chunk size. [`load_scene`] reads a
+//! whole file into a [`crate::Scene`]: coordinates minus one f64 origin, stored as f32
+//! (DESIGN §1).
+
+mod chunk;
+mod error;
+mod info;
+mod las;
+mod load;
+mod ply;
+
+pub use chunk::{ColorScale, PointChunk};
+pub use error::LoadError;
+pub use info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
+pub use load::{LoadOptions, LoadReport, Up, load_scene};
+
+use chunk::RawChunk;
+use std::collections::VecDeque;
+use std::io::Read;
+use std::path::Path;
+
+/// Points read ahead to decide the scale of 16-bit colour when streaming.
+pub const COLOR_DETECTION_POINTS: usize = 65_536;
+
+/// The format-specific point source behind a [`PointReader`].
+enum Source {
+    Las(Box<las::LasSource>),
+    Ply(Box<ply::PlySource>),
+}
+
+impl Source {
+    fn next_raw(&mut self, n: usize) -> Result<Option<RawChunk>, LoadError> {
+        match self {
+            Source::Las(s) => s.next_raw(n),
+            Source::Ply(s) => s.next_raw(n),
+        }
+    }
+}
+
+/// An opened point-cloud file: its header facts and a stream of its points.
+pub struct PointReader {
+    info: FileInfo,
+    source: Source,
+}
+
+impl std::fmt::Debug for PointReader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("PointReader")
+            .field("info", &self.info)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The formats we can read, by what the file says it is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Las,
+    Ply,
+}
+
+/// Detects the format from the first bytes, falling back to the extension to word the error.
+fn detect(path: &Path) -> Result<Kind, LoadError> {
+    let meta = std::fs::metadata(path).map_err(|e| LoadError::from_io(path, e))?;
+    if meta.is_dir() {
+        return Err(LoadError::Unreadable {
+            path: path.to_path_buf(),
+            source: std::io::Error::other("it is a directory"),
+        });
+    }
+    if meta.len() == 0 {
+        return Err(LoadError::EmptyFile {
+            path: path.to_path_buf(),
+        });
+    }
+    let mut magic = Vec::with_capacity(4);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(4).read_to_end(&mut magic))
+        .map_err(|e| LoadError::from_io(path, e))?;
+    if magic == b"LASF" {
+        return Ok(Kind::Las);
+    }
+    if magic.starts_with(b"ply") && matches!(magic.get(3), Some(b'\n' | b'\r')) {
+        return Ok(Kind::Ply);
+    }
+    let extension = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let expected = match extension.as_str() {
+        "las" | "laz" => Some(("LAS", "'LASF'")),
+        "ply" => Some(("PLY", "'ply' and a newline")),
+        _ => None,
+    };
+    match expected {
+        Some((format, signature)) => Err(LoadError::CorruptHeader {
+            path: path.to_path_buf(),
+            format,
+            detail: format!("the file does not start with {signature}"),
+        }),
+        None => Err(LoadError::UnsupportedFormat {
+            path: path.to_path_buf(),
+            extension,
+        }),
+    }
+}
+
+/// Opens a LAS, LAZ or PLY file and reads its header.
+///
+/// # Errors
+/// Any [`LoadError`] about the file's existence, format or header; point data is not read.
+pub fn open(path: &Path) -> Result<PointReader, LoadError> {
+    match detect(path)? {
+        Kind::Las => {
+            let (info, source) = las::open(path)?;
+            Ok(PointReader {
+                info,
+                source: Source::Las(Box::new(source)),
+            })
+        }
+        Kind::Ply => {
+            let (info, source) = ply::open(path)?;
+            Ok(PointReader {
+                info,
+                source: Source::Ply(Box::new(source)),
+            })
+        }
+    }
+}
+
+impl PointReader {
+    /// Header facts of the file.
+    pub fn info(&self) -> &FileInfo {
+        &self.info
+    }
+
+    /// Streams the points in chunks of at most `chunk_size` points (file coordinates).
+    ///
+    /// 16-bit colour is scaled to 8 bits by a [`ColorScale`] decided from the first
+    /// `max(chunk_size, COLOR_DETECTION_POINTS)` points, which are read ahead; later values
+    /// above 255 in a file judged 8-bit saturate. After an error the iterator ends.
+    pub fn chunks(self, chunk_size: usize) -> Chunks {
+        Chunks {
+            source: self.source,
+            chunk_size: chunk_size.max(1),
+            scale: None,
+            pending: VecDeque::new(),
+            done: false,
+        }
+    }
+
+    /// Reads raw (unscaled) chunks: for [`load_scene`], which decides the colour scale from
+    /// every point.
+    pub(crate) fn next_raw(&mut self, n: usize) -> Result<Option<RawChunk>, LoadError> {
+        self.source.next_raw(n)
+    }
+}
+
+/// Iterator over the chunks of a [`PointReader`]; see [`PointReader::chunks`].
+pub struct Chunks {
+    source: Source,
+    chunk_size: usize,
+    scale: Option<ColorScale>,
+    pending: VecDeque<RawChunk>,
+    done: bool,
+}
+
+impl std::fmt::Debug for Chunks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Chunks")
+            .field("chunk_size", &self.chunk_size)
+            .field("scale", &self.scale)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Chunks {
+    /// The colour scale in use (`None` before the first chunk is read).
+    pub fn color_scale(&self) -> Option<ColorScale> {
+        self.scale
+    }
+
+    fn next_chunk(&mut self) -> Result<Option<PointChunk>, LoadError> {
+        if self.scale.is_none() {
+            let first = self
+                .source
+                .next_raw(self.chunk_size.max(COLOR_DETECTION_POINTS))?;
+            let Some(first) = first else {
+                return Ok(None);
+            };
+            let scale = first
+                .rgb
+                .as_ref()
+                .and_then(|c| c.max_16())
+                .map_or(ColorScale::Direct8, ColorScale::detect_16);
+            self.scale = Some(scale);
+            self.pending = first.split_into(self.chunk_size).into();
+        }
+        let scale = self.scale.unwrap_or(ColorScale::Direct8);
+        if let Some(raw) = self.pending.pop_front() {
+            return Ok(Some(raw.into_chunk(scale)));
+        }
+        Ok(self
+            .source
+            .next_raw(self.chunk_size)?
+            .map(|raw| raw.into_chunk(scale)))
+    }
+}
+
+impl Iterator for Chunks {
+    type Item = Result<PointChunk, LoadError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let item = self.next_chunk().transpose();
+        if !matches!(item, Some(Ok(_))) {
+            self.done = true;
+        }
+        item
+    }
+}

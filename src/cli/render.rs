@@ -1,0 +1,147 @@
+//! `omnicloud render`: load, place the camera, choose radii, render, write.
+
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use glam::DVec3;
+
+use crate::io::{LoadOptions, Up, load_scene};
+use crate::output::{AnaglyphMethod, ImageFormat, Layout};
+use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
+use crate::render::{RenderSettings, RendererKind};
+use crate::scene::Radii;
+use crate::{Rendered, output, placement, radius, raytrace};
+
+use super::args::{RenderArgs, StereoArg, UpArg};
+use super::parse::RadiusChoice;
+use super::progress;
+
+/// Runs `omnicloud render`.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    // Check output names before the (long) render, not after it.
+    ImageFormat::from_path(&args.output)?;
+    if let Some(d) = &args.depth {
+        ImageFormat::require(d, ImageFormat::Exr)?;
+    }
+    if let Some(a) = &args.anaglyph {
+        ImageFormat::require(a, ImageFormat::Png)?;
+    }
+    if args.anaglyph.is_some() && args.stereo != StereoArg::Ods {
+        bail!("--anaglyph needs --stereo ods (a mono panorama has no second eye)");
+    }
+    let say = |msg: String| {
+        if !args.quiet {
+            eprintln!("{msg}");
+        }
+    };
+
+    let started = Instant::now();
+    let options = LoadOptions {
+        origin: args.camera,
+        up: match args.up {
+            UpArg::Z => Up::Z,
+            UpArg::Y => Up::Y,
+        },
+        ..LoadOptions::default()
+    };
+    let (mut scene, report) = load_scene(&args.file, &options)?;
+    if report.dropped_nonfinite > 0 {
+        say(format!(
+            "warning: dropped {} points with NaN/inf coordinates from {}",
+            report.dropped_nonfinite,
+            args.file.display()
+        ));
+    }
+    if scene.is_empty() {
+        bail!(
+            "{}: no point with finite coordinates to render",
+            args.file.display()
+        );
+    }
+    let camera_world = match args.camera {
+        Some(c) => c,
+        None => {
+            let local = placement::auto_camera_position(&scene)
+                .context("could not place the camera automatically; pass --camera X,Y,Z")?;
+            scene.origin + local
+        }
+    };
+    scene.recenter(camera_world);
+
+    match args.radius {
+        Some(RadiusChoice::Fixed(r)) => scene.radii = Radii::Uniform(r),
+        Some(RadiusChoice::Auto) => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
+        None if matches!(scene.radii, Radii::PerPoint(_)) => {}
+        None => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
+    }
+
+    let stereo = match args.stereo {
+        StereoArg::None => Stereo::Mono,
+        StereoArg::Ods => Stereo::Ods {
+            ipd: args.ipd,
+            merging: PoleMerging {
+                north: args.pole_merge_north.unwrap_or(args.pole_merge),
+                south: args.pole_merge_south.unwrap_or(args.pole_merge),
+            },
+            offset: args.ods_offset.into(),
+        },
+    };
+    let settings = RenderSettings {
+        image: Equirect::from_width(args.width),
+        camera: Camera::new(DVec3::ZERO, args.yaw),
+        stereo,
+        color: args.color,
+        shading: args.shading,
+        proxy: args.proxy,
+        imposter: args.imposter,
+    };
+    say(format!(
+        "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}) loaded in {:.2?}",
+        args.file.display(),
+        scene.len(),
+        match &scene.radii {
+            Radii::Uniform(r) => format!("{r:.4} m"),
+            Radii::PerPoint(_) => "per point".to_string(),
+        },
+        camera_world.x,
+        camera_world.y,
+        camera_world.z,
+        started.elapsed()
+    ));
+
+    let render_start = Instant::now();
+    let rendered: Rendered = match args.renderer {
+        RendererKind::Raytrace => {
+            let rows = settings.image.height as u64 * settings.views().len() as u64;
+            let pb = progress::bar(args.quiet, rows, "ray tracing");
+            let r = raytrace::render(&scene, &settings, &pb)?;
+            pb.finish_and_clear();
+            r
+        }
+        RendererKind::Raster => {
+            bail!("the GPU rasterizer is not merged yet; use --renderer raytrace")
+        }
+    };
+    say(format!("rendered in {:.2?}", render_start.elapsed()));
+
+    let layout = if args.separate_eyes {
+        Layout::SeparateEyes
+    } else {
+        Layout::TopBottom
+    };
+    let mut written = output::write_image(&args.output, &rendered, layout)?;
+    if let Some(d) = &args.depth {
+        written.extend(output::write_depth(d, &rendered, layout)?);
+    }
+    if let Some(a) = &args.anaglyph {
+        written.push(output::write_anaglyph(
+            a,
+            &rendered,
+            AnaglyphMethod::default(),
+        )?);
+    }
+    for path in &written {
+        say(format!("wrote {}", path.display()));
+    }
+    Ok(())
+}

@@ -1,0 +1,32 @@
+//! Comparing a test render against a reference: coverage, silhouette, depth and colour
+//! errors, per eye, per 10° latitude band and at the seam; a JSON report and a heatmap.
+//!
+//! Definitions (a pixel is *hit* when its coverage is at least 0.5):
+//! - coverage mismatch: pixels hit in exactly one image (count, % of pixels);
+//!   IoU = |ref ∩ test| / |ref ∪ test| (1 when both are empty);
+//! - silhouette error: per mismatched pixel, the distance in pixels to the nearest pixel of
+//!   opposite *reference* coverage (see [`silhouette`]), mean and max;
+//! - depth relative error `|z_t - z_r| / z_r` over pixels both hit with finite depths
+//!   (nearest-rank p50, p99, max);
+//! - colour PSNR (peak 1) of sRGB-encoded colour over pixels both hit.
+//!
+//! A square image is a top-bottom ODS pair and is reported per eye (left = top half).
+//! Latitude bands are 10° by pixel-centre latitude, top first; the seam is the 1% of
+//! columns nearest each edge (at least one column each side).
+
+mod error;
+pub mod eyes;
+mod files;
+pub mod font;
+pub mod heatmap;
+mod measure;
+mod report;
+pub mod silhouette;
+pub mod stats;
+
+pub use error::CompareError;
+pub use files::compare_files;
+pub use heatmap::{LegendLayout, heatmap};
+pub use measure::compare;
+pub use report::{CompareReport, EyeReport};
+pub use stats::{DepthErrorStats, RegionStats};

@@ -1,0 +1,270 @@
+//! Whole-file loading into a [`Scene`]: f64 file coordinates minus one f64 origin, stored as
+//! f32 (DESIGN §1), non-finite points dropped and counted.
+
+use super::chunk::{ColorScale, RawChunk, RawRgb};
+use super::error::LoadError;
+use super::info::FileInfo;
+use super::open;
+use crate::scene::{Attributes, Radii, Scene};
+use glam::{DVec3, Vec3};
+use std::path::Path;
+
+/// Points read per chunk while loading.
+const LOAD_CHUNK: usize = 1 << 16;
+/// Upper bound on memory reserved from a header's (untrusted) point count.
+const MAX_RESERVE: u64 = 1 << 24;
+
+/// Which file axis points up.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Up {
+    /// Z up (LAS/LiDAR convention): coordinates are kept.
+    #[default]
+    Z,
+    /// Y up (many PLY exports): file `(x, y, z)` becomes world `(x, -z, y)`, a rotation that
+    /// keeps the frame right-handed.
+    Y,
+}
+
+impl Up {
+    /// File coordinates to the Z-up world frame.
+    #[inline]
+    pub fn to_world(self, p: DVec3) -> DVec3 {
+        match self {
+            Up::Z => p,
+            Up::Y => DVec3::new(p.x, -p.z, p.y),
+        }
+    }
+}
+
+/// How [`load_scene`] places and sizes the points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoadOptions {
+    /// World (Z-up, after the `up` swap) coordinate of the local frame's zero; `None` = the
+    /// centre of the points' bounds.
+    pub origin: Option<DVec3>,
+    /// Which file axis points up.
+    pub up: Up,
+    /// Sphere radius (metres) for files without a per-point `radius`, and for points whose
+    /// radius is not a positive finite number.
+    pub default_radius: f32,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions {
+            origin: None,
+            up: Up::Z,
+            default_radius: 0.02,
+        }
+    }
+}
+
+/// What [`load_scene`] did, for the caller to print once.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoadReport {
+    /// Header facts of the file.
+    pub info: FileInfo,
+    /// Point records read from the file.
+    pub points_read: u64,
+    /// Points kept in the scene.
+    pub points_kept: u64,
+    /// Points dropped because a coordinate was NaN or infinite.
+    pub dropped_nonfinite: u64,
+    /// How colour was scaled to 8 bits (`None` without colour); decided from every point.
+    pub color_scale: Option<ColorScale>,
+    /// Origin of the scene's local frame (world coordinates).
+    pub origin: DVec3,
+    /// `(min, max)` of the kept points in world coordinates.
+    pub bounds: (DVec3, DVec3),
+}
+
+/// Positions while loading: local f32 once the origin is known, f64 world until then.
+enum Positions {
+    Local(DVec3, Vec<Vec3>),
+    World(Vec<DVec3>),
+}
+
+/// Colour while loading, unscaled.
+enum ColorAccum {
+    Bits8(Vec<[u8; 3]>),
+    Bits16(Vec<[u16; 3]>),
+}
+
+fn keep<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
+    if let Some(values) = values {
+        let out = out.get_or_insert_with(Vec::new);
+        out.extend(
+            values
+                .into_iter()
+                .zip(kept)
+                .filter(|(_, k)| **k)
+                .map(|(v, _)| v),
+        );
+    }
+}
+
+/// Reads a whole LAS/LAZ/PLY file into a [`Scene`].
+///
+/// The origin is `options.origin`, else the centre of the header bounds (LAS, when the first
+/// chunk lies inside them), else the centre of the points' bounds (positions are then held as
+/// f64 until the end: 24 extra bytes per point). Points with a NaN/inf coordinate are dropped
+/// and counted in the report; nothing is printed. 16-bit colour is scaled by a
+/// [`ColorScale`] decided from all points.
+///
+/// # Errors
+/// Any [`LoadError`] from [`open`] or from reading the points; [`LoadError::NoFinitePoints`]
+/// when no point survives.
+pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadReport), LoadError> {
+    let mut reader = open(path)?;
+    let info = reader.info().clone();
+    let up = options.up;
+    let reserve = info.point_count.min(MAX_RESERVE) as usize;
+    let header_centre = info.bounds.map(|(lo, hi)| {
+        let (a, b) = (up.to_world(lo), up.to_world(hi));
+        (a.min(b), a.max(b))
+    });
+
+    let mut positions: Option<Positions> = None;
+    let mut rgb: Option<ColorAccum> = None;
+    let mut intensity = None;
+    let mut classification = None;
+    let mut radius = None;
+    let mut points_read = 0u64;
+    let mut dropped = 0u64;
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+
+    while let Some(raw) = reader.next_raw(LOAD_CHUNK)? {
+        let RawChunk {
+            positions: file_positions,
+            rgb: chunk_rgb,
+            intensity: chunk_intensity,
+            classification: chunk_classification,
+            radius: chunk_radius,
+        } = raw;
+        points_read += file_positions.len() as u64;
+        let world: Vec<DVec3> = file_positions.into_iter().map(|p| up.to_world(p)).collect();
+        let kept: Vec<bool> = world.iter().map(|p| p.is_finite()).collect();
+        dropped += kept.iter().filter(|k| !**k).count() as u64;
+
+        let positions = positions.get_or_insert_with(|| {
+            // Header bounds are trusted for the origin only if the data agrees with them.
+            let header_origin = header_centre
+                .filter(|(blo, bhi)| {
+                    let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
+                    world
+                        .iter()
+                        .filter(|p| p.is_finite())
+                        .all(|p| p.cmpge(*blo - slack).all() && p.cmple(*bhi + slack).all())
+                })
+                .map(|(blo, bhi)| (blo + bhi) * 0.5);
+            match options.origin.or(header_origin) {
+                Some(origin) => Positions::Local(origin, Vec::with_capacity(reserve)),
+                None => Positions::World(Vec::with_capacity(reserve)),
+            }
+        });
+        for p in world.iter().filter(|p| p.is_finite()) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+            match positions {
+                Positions::Local(origin, v) => v.push((*p - *origin).as_vec3()),
+                Positions::World(v) => v.push(*p),
+            }
+        }
+
+        match chunk_rgb {
+            Some(RawRgb::Bits8(c)) => {
+                let acc = rgb.get_or_insert_with(|| ColorAccum::Bits8(Vec::with_capacity(reserve)));
+                if let ColorAccum::Bits8(v) = acc {
+                    v.extend(
+                        c.into_iter()
+                            .zip(&kept)
+                            .filter(|(_, k)| **k)
+                            .map(|(c, _)| c),
+                    );
+                }
+            }
+            Some(RawRgb::Bits16(c)) => {
+                let acc =
+                    rgb.get_or_insert_with(|| ColorAccum::Bits16(Vec::with_capacity(reserve)));
+                if let ColorAccum::Bits16(v) = acc {
+                    v.extend(
+                        c.into_iter()
+                            .zip(&kept)
+                            .filter(|(_, k)| **k)
+                            .map(|(c, _)| c),
+                    );
+                }
+            }
+            None => {}
+        }
+        keep(chunk_intensity, &kept, &mut intensity);
+        keep(chunk_classification, &kept, &mut classification);
+        keep(chunk_radius, &kept, &mut radius);
+    }
+
+    let points_kept = points_read - dropped;
+    if points_kept == 0 {
+        return Err(if points_read == 0 {
+            LoadError::NoPoints {
+                path: path.to_path_buf(),
+            }
+        } else {
+            LoadError::NoFinitePoints {
+                path: path.to_path_buf(),
+                dropped,
+            }
+        });
+    }
+    let (origin, positions) = match positions {
+        Some(Positions::Local(origin, v)) => (origin, v),
+        Some(Positions::World(v)) => {
+            let origin = options.origin.unwrap_or((lo + hi) * 0.5);
+            (
+                origin,
+                v.into_iter().map(|p| (p - origin).as_vec3()).collect(),
+            )
+        }
+        None => unreachable!("points_kept > 0 implies a chunk was read"),
+    };
+    let (rgb, color_scale) = match rgb {
+        None => (None, None),
+        Some(ColorAccum::Bits8(v)) => (Some(v), Some(ColorScale::Direct8)),
+        Some(ColorAccum::Bits16(v)) => {
+            let raw = RawRgb::Bits16(v);
+            let scale = ColorScale::detect_16(raw.max_16().unwrap_or(0));
+            (Some(raw.into_u8(scale)), Some(scale))
+        }
+    };
+    let default_radius = options.default_radius;
+    let radii = match radius {
+        Some(mut r) => {
+            for x in &mut r {
+                if !(x.is_finite() && *x > 0.0) {
+                    *x = default_radius;
+                }
+            }
+            Radii::PerPoint(r)
+        }
+        None => Radii::Uniform(default_radius),
+    };
+    let scene = Scene {
+        origin,
+        positions,
+        radii,
+        attributes: Attributes {
+            rgb,
+            intensity,
+            classification,
+        },
+    };
+    let report = LoadReport {
+        info,
+        points_read,
+        points_kept,
+        dropped_nonfinite: dropped,
+        color_scale,
+        origin,
+        bounds: (lo, hi),
+    };
+    Ok((scene, report))
+}

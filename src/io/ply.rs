@@ -1,0 +1,433 @@
+//! PLY (ascii, binary little and big endian) through `ply-rs-bw`, read one vertex at a time so
+//! memory follows the chunk size.
+//!
+//! Read from the `vertex` element: `x y z` (any scalar type, read as f64), colour
+//! `red green blue` (`uchar` → 8 bit, `ushort` → 16-bit fields scaled like LAS, `float`/`double`
+//! in 0–1), `intensity` (rounded and clamped to u16), `classification` (clamped to u8) and
+//! `radius` (metres). Every other property (normals, indices, lists) is read past and ignored.
+
+use super::chunk::{RawChunk, RawRgb};
+use super::error::LoadError;
+use super::info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
+use glam::DVec3;
+use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::ply::{
+    ElementDef, Encoding, Property, PropertyAccess, PropertyAccessResult, PropertyType, ScalarType,
+};
+use std::fs::File;
+use std::io::{BufRead, BufReader, ErrorKind, Seek};
+use std::path::{Path, PathBuf};
+
+/// Property names this reader uses; everything else is skipped.
+const POSITION: [&str; 3] = ["x", "y", "z"];
+const COLOR: [&str; 3] = ["red", "green", "blue"];
+const INTENSITY: &str = "intensity";
+const CLASSIFICATION: &str = "classification";
+const RADIUS: &str = "radius";
+
+/// One vertex as parsed; fields the file lacks stay 0.
+struct PlyVertex {
+    xyz: [f64; 3],
+    rgb: [f64; 3],
+    intensity: f64,
+    classification: f64,
+    radius: f64,
+}
+
+/// A scalar PLY value as f64 (`None` for lists).
+fn scalar(p: &Property) -> Option<f64> {
+    Some(match *p {
+        Property::Char(v) => f64::from(v),
+        Property::UChar(v) => f64::from(v),
+        Property::Short(v) => f64::from(v),
+        Property::UShort(v) => f64::from(v),
+        Property::Int(v) => f64::from(v),
+        Property::UInt(v) => f64::from(v),
+        Property::Float(v) => f64::from(v),
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+impl PropertyAccess for PlyVertex {
+    fn new() -> Self {
+        PlyVertex {
+            xyz: [0.0; 3],
+            rgb: [0.0; 3],
+            intensity: 0.0,
+            classification: 0.0,
+            radius: 0.0,
+        }
+    }
+
+    fn set_property(&mut self, name: &str, property: Property) -> PropertyAccessResult {
+        let slot = match name {
+            "x" => &mut self.xyz[0],
+            "y" => &mut self.xyz[1],
+            "z" => &mut self.xyz[2],
+            "red" => &mut self.rgb[0],
+            "green" => &mut self.rgb[1],
+            "blue" => &mut self.rgb[2],
+            INTENSITY => &mut self.intensity,
+            CLASSIFICATION => &mut self.classification,
+            RADIUS => &mut self.radius,
+            _ => return PropertyAccessResult::Ignored,
+        };
+        match scalar(&property) {
+            Some(v) => {
+                *slot = v;
+                PropertyAccessResult::Set
+            }
+            // Lists under a known name are validated away at open; skip defensively.
+            None => PropertyAccessResult::Ignored,
+        }
+    }
+}
+
+/// Elements before `vertex` are read and dropped.
+struct Skip;
+
+impl PropertyAccess for Skip {
+    fn new() -> Self {
+        Skip
+    }
+}
+
+/// How the file stores colour channels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum ColorKind {
+    Bits8,
+    Bits16,
+    Unit,
+}
+
+/// Streams the vertices of one PLY file.
+pub(crate) struct PlySource {
+    path: PathBuf,
+    reader: Reader<BufReader<File>>,
+    parser: Parser<PlyVertex>,
+    vertex: ElementDef,
+    encoding: Encoding,
+    color: Option<ColorKind>,
+    has_intensity: bool,
+    has_classification: bool,
+    has_radius: bool,
+    declared: u64,
+    read: u64,
+    line: String,
+}
+
+fn scalar_size(t: &ScalarType) -> u64 {
+    match t {
+        ScalarType::Char | ScalarType::UChar => 1,
+        ScalarType::Short | ScalarType::UShort => 2,
+        ScalarType::Int | ScalarType::UInt | ScalarType::Float => 4,
+        ScalarType::Double => 8,
+    }
+}
+
+/// Bytes per element when no property is a list.
+fn fixed_record_len(def: &ElementDef) -> Option<u64> {
+    def.properties
+        .iter()
+        .map(|(_, p)| match &p.data_type {
+            PropertyType::Scalar(t) => Some(scalar_size(t)),
+            PropertyType::List(..) => None,
+        })
+        .sum()
+}
+
+fn scalar_type<'a>(def: &'a ElementDef, name: &str) -> Option<Option<&'a ScalarType>> {
+    def.properties.get(name).map(|p| match &p.data_type {
+        PropertyType::Scalar(t) => Some(t),
+        PropertyType::List(..) => None,
+    })
+}
+
+/// Opens a PLY file: parses the header, validates the vertex element, checks (binary files)
+/// that the declared vertices fit in the file, and skips elements stored before `vertex`.
+pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
+    let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| LoadError::from_io(path, e))?
+        .len();
+    let mut reader = Reader::new(BufReader::new(file));
+    let parser = Parser::<PlyVertex>::new();
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| LoadError::CorruptHeader {
+            path: path.to_path_buf(),
+            format: "PLY",
+            detail: e.to_string().replace('\n', " "),
+        })?;
+    let missing = |detail: String| LoadError::PlyMissingXyz {
+        path: path.to_path_buf(),
+        detail,
+    };
+    let vertex = header
+        .elements
+        .get("vertex")
+        .cloned()
+        .ok_or_else(|| missing("no 'vertex' element".into()))?;
+    for name in POSITION {
+        match scalar_type(&vertex, name) {
+            Some(Some(_)) => {}
+            Some(None) => return Err(missing(format!("'{name}' is a list"))),
+            None => return Err(missing(format!("'{name}' is missing"))),
+        }
+    }
+    let present = |name: &str| matches!(scalar_type(&vertex, name), Some(Some(_)));
+    let color = if COLOR.iter().all(|c| present(c)) {
+        match scalar_type(&vertex, "red").flatten() {
+            Some(ScalarType::Char | ScalarType::UChar) => Some(ColorKind::Bits8),
+            Some(ScalarType::Float | ScalarType::Double) => Some(ColorKind::Unit),
+            _ => Some(ColorKind::Bits16),
+        }
+    } else {
+        None
+    };
+    let encoding = header.encoding;
+    let declared = vertex.count as u64;
+    if declared == 0 {
+        return Err(LoadError::NoPoints {
+            path: path.to_path_buf(),
+        });
+    }
+
+    // Elements stored before the vertices (rare) are read and dropped.
+    let mut before_len = Some(0u64);
+    for (_, def) in header.elements.iter() {
+        if def.name == "vertex" {
+            break;
+        }
+        before_len = before_len
+            .zip(fixed_record_len(def))
+            .map(|(a, r)| a + r * def.count as u64);
+        skip_element(path, &mut reader, def, encoding)?;
+    }
+    if encoding != Encoding::Ascii
+        && let (Some(record), Some(_)) = (fixed_record_len(&vertex), before_len)
+    {
+        let start = reader
+            .get_mut()
+            .stream_position()
+            .map_err(|e| LoadError::from_io(path, e))?;
+        let available = file_len.saturating_sub(start) / record.max(1);
+        if declared > available {
+            return Err(LoadError::PointCountExceedsFile {
+                path: path.to_path_buf(),
+                declared,
+                available,
+            });
+        }
+    }
+
+    let ignored_properties = vertex
+        .properties
+        .iter()
+        .map(|(name, _)| name.clone())
+        .filter(|name| {
+            !(POSITION.contains(&name.as_str())
+                || (color.is_some() && COLOR.contains(&name.as_str()))
+                || [INTENSITY, CLASSIFICATION, RADIUS].contains(&name.as_str()))
+        })
+        .collect();
+    let info = FileInfo {
+        path: path.to_path_buf(),
+        format: Format::Ply(match encoding {
+            Encoding::Ascii => PlyEncoding::Ascii,
+            Encoding::BinaryLittleEndian => PlyEncoding::BinaryLittleEndian,
+            Encoding::BinaryBigEndian => PlyEncoding::BinaryBigEndian,
+        }),
+        version: format!("{}.{}", header.version.major, header.version.minor),
+        point_format: None,
+        point_count: declared,
+        bounds: None,
+        attributes: AttributesPresent {
+            rgb: color.is_some(),
+            intensity: present(INTENSITY),
+            classification: present(CLASSIFICATION),
+            radius: present(RADIUS),
+        },
+        color_depth: match color {
+            None => ColorDepth::None,
+            Some(ColorKind::Bits8) => ColorDepth::Bits8,
+            Some(ColorKind::Bits16) => ColorDepth::Bits16,
+            Some(ColorKind::Unit) => ColorDepth::Float,
+        },
+        ignored_properties,
+    };
+    let source = PlySource {
+        path: path.to_path_buf(),
+        reader,
+        parser,
+        color,
+        has_intensity: info.attributes.intensity,
+        has_classification: info.attributes.classification,
+        has_radius: info.attributes.radius,
+        vertex,
+        encoding,
+        declared,
+        read: 0,
+        line: String::new(),
+    };
+    Ok((info, source))
+}
+
+fn skip_element(
+    path: &Path,
+    reader: &mut Reader<BufReader<File>>,
+    def: &ElementDef,
+    encoding: Encoding,
+) -> Result<(), LoadError> {
+    let skipper = Parser::<Skip>::new();
+    let mut line = String::new();
+    for _ in 0..def.count {
+        let result = match encoding {
+            Encoding::Ascii => {
+                line.clear();
+                match reader.get_mut().read_line(&mut line) {
+                    Ok(0) => Err(ErrorKind::UnexpectedEof.into()),
+                    Ok(_) => Ok(()),
+                    Err(e) => Err(e),
+                }
+            }
+            Encoding::BinaryLittleEndian => skipper
+                .read_little_endian_element(reader.get_mut(), def)
+                .map(|_| ())
+                .map_err(std::io::Error::from),
+            Encoding::BinaryBigEndian => skipper
+                .read_big_endian_element(reader.get_mut(), def)
+                .map(|_| ())
+                .map_err(std::io::Error::from),
+        };
+        result.map_err(|e| LoadError::CorruptHeader {
+            path: path.to_path_buf(),
+            format: "PLY",
+            detail: format!(
+                "cannot skip element '{}' stored before 'vertex': {e}",
+                def.name
+            ),
+        })?;
+    }
+    Ok(())
+}
+
+/// Parses one ascii vertex line. Done here rather than by `ply-rs-bw`, whose grammar rejects
+/// `nan` and `inf`: those points must reach `load_scene` to be dropped and counted.
+fn parse_ascii_vertex(line: &str, def: &ElementDef) -> Result<PlyVertex, String> {
+    let mut tokens = line.split_ascii_whitespace();
+    let mut vertex = PlyVertex::new();
+    for (name, property) in &def.properties {
+        let token = tokens
+            .next()
+            .ok_or_else(|| format!("line '{}' has too few values", line.trim()))?;
+        match property.data_type {
+            PropertyType::Scalar(_) => {
+                let v: f64 = token
+                    .parse()
+                    .map_err(|_| format!("'{token}' is not a number (property '{name}')"))?;
+                vertex.set_property(name, Property::Double(v));
+            }
+            PropertyType::List(..) => {
+                let n: usize = token
+                    .parse()
+                    .map_err(|_| format!("'{token}' is not a list length (property '{name}')"))?;
+                if tokens.by_ref().take(n).count() != n {
+                    return Err(format!("list '{name}' is shorter than its length {n}"));
+                }
+            }
+        }
+    }
+    Ok(vertex)
+}
+
+impl PlySource {
+    fn corrupt(&self, detail: String) -> LoadError {
+        LoadError::CorruptPoints {
+            path: self.path.clone(),
+            read: self.read,
+            declared: self.declared,
+            detail: detail.replace('\n', " "),
+        }
+    }
+
+    fn next_vertex(&mut self) -> Result<PlyVertex, LoadError> {
+        let parsed = match self.encoding {
+            Encoding::Ascii => loop {
+                self.line.clear();
+                match self.reader.get_mut().read_line(&mut self.line) {
+                    Ok(0) => return Err(self.corrupt("the file ends early".into())),
+                    Ok(_) if self.line.trim().is_empty() => continue,
+                    Ok(_) => {
+                        return parse_ascii_vertex(&self.line, &self.vertex)
+                            .map_err(|e| self.corrupt(e));
+                    }
+                    Err(e) => return Err(self.corrupt(e.to_string())),
+                }
+            },
+            Encoding::BinaryLittleEndian => self
+                .parser
+                .read_little_endian_element(self.reader.get_mut(), &self.vertex),
+            Encoding::BinaryBigEndian => self
+                .parser
+                .read_big_endian_element(self.reader.get_mut(), &self.vertex),
+        };
+        parsed.map_err(|e| {
+            if e.kind() == ErrorKind::UnexpectedEof {
+                self.corrupt("the file ends early".into())
+            } else {
+                self.corrupt(e.to_string())
+            }
+        })
+    }
+
+    /// Reads up to `n` vertices; `None` once the declared count has been read.
+    pub(crate) fn next_raw(&mut self, n: usize) -> Result<Option<RawChunk>, LoadError> {
+        let n = (n as u64).min(self.declared - self.read) as usize;
+        if n == 0 {
+            return Ok(None);
+        }
+        let mut positions = Vec::with_capacity(n);
+        let mut rgb8 = Vec::new();
+        let mut rgb16 = Vec::new();
+        let mut intensity = Vec::new();
+        let mut classification = Vec::new();
+        let mut radius = Vec::new();
+        for _ in 0..n {
+            let v = self.next_vertex()?;
+            self.read += 1;
+            positions.push(DVec3::from_array(v.xyz));
+            match self.color {
+                None => {}
+                Some(ColorKind::Bits8) => rgb8.push(v.rgb.map(|c| c.clamp(0.0, 255.0) as u8)),
+                Some(ColorKind::Unit) => {
+                    rgb8.push(v.rgb.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+                }
+                Some(ColorKind::Bits16) => rgb16.push(v.rgb.map(|c| c.clamp(0.0, 65535.0) as u16)),
+            }
+            if self.has_intensity {
+                intensity.push(v.intensity.round().clamp(0.0, 65535.0) as u16);
+            }
+            if self.has_classification {
+                classification.push(v.classification.clamp(0.0, 255.0) as u8);
+            }
+            if self.has_radius {
+                radius.push(v.radius as f32);
+            }
+        }
+        let rgb = match self.color {
+            None => None,
+            Some(ColorKind::Bits16) => Some(RawRgb::Bits16(rgb16)),
+            Some(_) => Some(RawRgb::Bits8(rgb8)),
+        };
+        Ok(Some(RawChunk {
+            positions,
+            rgb,
+            intensity: self.has_intensity.then_some(intensity),
+            classification: self.has_classification.then_some(classification),
+            radius: self.has_radius.then_some(radius),
+        }))
+    }
+}

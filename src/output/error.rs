@@ -1,0 +1,77 @@
+//! Errors of the output writers and the EXR reader; every variant names the file.
+
+use std::path::PathBuf;
+
+/// Why an image could not be written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The file name's extension names no format this writer produces.
+    #[error("{path}: unsupported extension (expected {expected})")]
+    UnsupportedExtension {
+        /// The requested output file.
+        path: PathBuf,
+        /// The extensions that would be accepted, e.g. `.png or .exr`.
+        expected: &'static str,
+    },
+    /// A file-system operation (create, write, rename, read) failed.
+    #[error("{path}: {action} failed: {source}")]
+    Io {
+        /// The file concerned (the final name, not the temporary one).
+        path: PathBuf,
+        /// What was being done, e.g. `creating temporary file`.
+        action: &'static str,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// PNG encoding or decoding failed.
+    #[error("{path}: PNG error: {source}")]
+    Png {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: image::ImageError,
+    },
+    /// OpenEXR encoding or decoding failed.
+    #[error("{path}: OpenEXR error: {source}")]
+    Exr {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: exr::error::Error,
+    },
+    /// An EXR file lacks the channels needed to recover coverage.
+    #[error("{path}: EXR has neither an `A` (coverage) nor a `Z` (depth) channel")]
+    NoCoverage {
+        /// The file concerned.
+        path: PathBuf,
+    },
+    /// A stereo-only output (anaglyph) was asked for a mono render.
+    #[error("{path}: an anaglyph needs a stereo (ODS) render, got a mono one")]
+    NotStereo {
+        /// The requested output file.
+        path: PathBuf,
+    },
+    /// The two eyes of a stereo render differ in size.
+    #[error("{path}: left eye is {left:?} pixels but right eye is {right:?}")]
+    EyeSizeMismatch {
+        /// The requested output file.
+        path: PathBuf,
+        /// Left eye (width, height).
+        left: (u32, u32),
+        /// Right eye (width, height).
+        right: (u32, u32),
+    },
+    /// The image has no pixels or more than the format can hold.
+    #[error("{path}: cannot write a {width}x{height} image")]
+    BadSize {
+        /// The requested output file.
+        path: PathBuf,
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+    },
+}
