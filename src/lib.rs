@@ -4,6 +4,7 @@
 //! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
 //! `DESIGN.md`; [`projection`] implements them.
 
+pub mod bench;
 pub mod cli;
 pub mod compare;
 pub mod frame;
