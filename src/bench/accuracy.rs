@@ -1,6 +1,10 @@
 //! Accuracy of a render against the ray-traced reference, in the terms the benchmark tables
 //! use: coverage mismatch (overall and per 10° latitude band), IoU, relative depth error
 //! percentiles where both hit, unlit colour mismatch where both hit, and PSNR.
+//!
+//! The definitions are those of [`crate::compare`] (hit = covered pixel, nearest-rank
+//! percentiles, 10° bands by pixel-centre latitude); this works on the in-memory 8-bit frames
+//! so it can also tell whether the unlit colour is bit-identical where both hit.
 
 use crate::frame::{Frame, Rendered};
 use crate::projection::Equirect;
@@ -108,7 +112,9 @@ impl Tally {
             if n == 0 {
                 0.0
             } else {
-                self.depth_rel[((q * (n - 1) as f64).round() as usize).min(n - 1)] as f64
+                // Nearest rank, as `compare` defines its percentiles.
+                let rank = (q * n as f64).ceil() as usize;
+                self.depth_rel[rank.clamp(1, n) - 1] as f64
             }
         };
         let mse = self.squared_error / (3.0 * self.pixels.max(1) as f64);

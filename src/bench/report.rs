@@ -230,7 +230,7 @@ pub fn percent(fraction: f64) -> String {
     }
 }
 
-fn cell<'a>(report: &'a BenchReport, proxy: Proxy, imposter: Imposter) -> Option<&'a ModeResult> {
+fn cell(report: &BenchReport, proxy: Proxy, imposter: Imposter) -> Option<&ModeResult> {
     report.mode(BenchMode { proxy, imposter })
 }
 
