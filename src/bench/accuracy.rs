@@ -9,7 +9,7 @@
 use crate::frame::{Frame, Rendered};
 use crate::projection::Equirect;
 
-use super::report::{Accuracy, BandAccuracy};
+use super::report::{Accuracy, BandAccuracy, RegionCount};
 
 /// Latitude bands of [`Accuracy::bands`]: 18 bands of 10°.
 pub const BAND_COUNT: usize = 18;
@@ -71,16 +71,22 @@ struct Tally {
     depth_rel: Vec<f32>,
     band_pixels: [u64; BAND_COUNT],
     band_mismatched: [u64; BAND_COUNT],
+    seam: RegionCount,
 }
 
 impl Tally {
     fn add(&mut self, r: &Frame, t: &Frame) {
+        let seam_cols = crate::compare::eyes::seam_columns(r.width);
         for j in 0..r.height {
             let band = band_of_row(r.height, j);
             for i in 0..r.width {
                 let k = r.index(i, j);
                 let (rc, tc) = (r.color[k], t.color[k]);
                 let (rh, th) = (rc[3] != 0, tc[3] != 0);
+                if i < seam_cols || i >= r.width - seam_cols {
+                    self.seam.pixels += 1;
+                    self.seam.mismatched += u64::from(rh != th);
+                }
                 self.pixels += 1;
                 self.band_pixels[band] += 1;
                 self.squared_error += (0..3)
@@ -138,6 +144,7 @@ impl Tally {
                     mismatched: self.band_mismatched[b],
                 })
                 .collect(),
+            seam: self.seam,
         }
     }
 }
@@ -169,6 +176,14 @@ mod tests {
         assert_eq!(a.bands[15].mismatched, 1);
         assert_eq!(a.bands[2].mismatched, 1);
         assert_eq!(a.bands.iter().map(|b| b.pixels).sum::<u64>(), 32);
+        // Width 8: one seam column each side, 8 pixels; (0, 0) is in it.
+        assert_eq!(
+            a.seam,
+            RegionCount {
+                pixels: 8,
+                mismatched: 1
+            }
+        );
     }
 
     #[test]

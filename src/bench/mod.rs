@@ -21,7 +21,9 @@ pub use chart::{ChartError, ChartSummary, pareto_front, speed_accuracy_points};
 pub use config::BenchConfig;
 pub use mode::BenchMode;
 pub use outputs::{BenchFiles, write_outputs};
-pub use report::{Accuracy, BandAccuracy, BenchReport, ModeResult, ModeStats, TimingKind};
+pub use report::{
+    Accuracy, BandAccuracy, BenchReport, ModeResult, ModeStats, RegionCount, TimingKind,
+};
 pub use runner::{bench_settings, run_bench, run_bench_with};
 pub use suite_run::{
     SuiteEntryResult, SuiteFiles, SuiteReport, band_series, load_entry, run_suite, suite_markdown,

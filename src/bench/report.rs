@@ -53,6 +53,26 @@ impl BandAccuracy {
     }
 }
 
+/// Coverage mismatch in one image region (all eyes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct RegionCount {
+    /// Pixels in the region.
+    pub pixels: u64,
+    /// Pixels in the region covered by exactly one of reference and test.
+    pub mismatched: u64,
+}
+
+impl RegionCount {
+    /// Mismatched fraction of the region's pixels.
+    pub fn fraction(&self) -> f64 {
+        if self.pixels == 0 {
+            0.0
+        } else {
+            self.mismatched as f64 / self.pixels as f64
+        }
+    }
+}
+
 /// Accuracy of one render against the ray-traced reference, over all eyes.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Accuracy {
@@ -72,6 +92,18 @@ pub struct Accuracy {
     pub psnr_db: Option<f64>,
     /// Coverage mismatch per 10° latitude band, south to north.
     pub bands: Vec<BandAccuracy>,
+    /// Coverage mismatch in the seam columns (as `compare` defines them: the 1 % of columns
+    /// nearest each edge, at least one each side).
+    pub seam: RegionCount,
+}
+
+impl Accuracy {
+    /// Coverage mismatch in the worse of the two polar bands (|latitude| ≥ 80°).
+    pub fn polar_mismatch(&self) -> f64 {
+        let first = self.bands.first().map_or(0.0, BandAccuracy::fraction);
+        let last = self.bands.last().map_or(0.0, BandAccuracy::fraction);
+        first.max(last)
+    }
 }
 
 /// Counts the rasterizer reported for one frame.
@@ -343,6 +375,10 @@ pub(crate) mod tests {
                             },
                         })
                         .collect(),
+                    seam: RegionCount {
+                        pixels: 100,
+                        mismatched: 10 - k as u64,
+                    },
                 },
                 stats: ModeStats::default(),
             })
