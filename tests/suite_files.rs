@@ -57,3 +57,25 @@ fn the_suite_folder_is_small_and_every_entry_names_an_existing_file() {
         assert_eq!(bytes.len() - end, 31 * e.points, "{}: body size", e.name);
     }
 }
+
+#[test]
+fn the_ply_reader_gives_back_the_generated_scenes() {
+    use omnicloud::Radii;
+    use omnicloud::io::{LoadOptions, load_scene};
+    for s in suite::all_scenes() {
+        let expected = s.to_scene();
+        let options = LoadOptions {
+            origin: Some(s.camera),
+            ..LoadOptions::default()
+        };
+        let (loaded, _) = load_scene(&committed_dir().join(format!("{}.ply", s.name)), &options)
+            .unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        assert_eq!(loaded.origin, expected.origin, "{}", s.name);
+        assert_eq!(loaded.positions, expected.positions, "{}", s.name);
+        assert_eq!(loaded.attributes.rgb, expected.attributes.rgb, "{}", s.name);
+        let Radii::PerPoint(r) = &loaded.radii else {
+            panic!("{}: per-point radius not read", s.name)
+        };
+        assert_eq!(Radii::PerPoint(r.clone()), expected.radii, "{}", s.name);
+    }
+}
