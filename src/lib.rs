@@ -4,6 +4,7 @@
 //! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
 //! `DESIGN.md`; [`projection`] implements them.
 
+pub mod bench;
 pub mod cli;
 pub mod compare;
 pub mod frame;
@@ -16,6 +17,7 @@ pub mod raster;
 pub mod raytrace;
 pub mod render;
 pub mod scene;
+pub mod suite;
 
 pub use frame::{Frame, Rendered};
 pub use scene::{Attributes, Radii, Scene};
