@@ -1,6 +1,7 @@
 //! Runs the speed/accuracy benchmark until the CLI's `omnicloud bench` exists:
 //!
 //! `cargo run --release --example bench_run -- --suite data/scenes --out DIR [--frames N]`
+//! `cargo run --release --example bench_run -- --replot DIR/bench.json --out DIR` (redraw)
 //! `cargo run --release --example bench_run -- FILE --out DIR [--width W] [--stereo mono|ods]
 //!  [--frames N] [--warmup N]` (camera at the centre of the bounds, radius auto unless the
 //! file has per-point radii, colour rgb when present, unlit).
@@ -53,6 +54,17 @@ fn run() -> Result<(), Box<dyn std::error::Error>> {
     let pb = ProgressBar::new(0).with_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} {elapsed} {msg}",
     )?);
+    if let Some(json) = value("--replot") {
+        // Redraws the outputs of an earlier run from its bench.json or suite.json.
+        let text = std::fs::read_to_string(&json)?;
+        if let Ok(report) = serde_json::from_str::<bench::BenchReport>(&text) {
+            bench::write_outputs(&report, &out)?;
+        } else {
+            let report: bench::SuiteReport = serde_json::from_str(&text)?;
+            bench::write_suite_outputs(&report, &out)?;
+        }
+        return Ok(());
+    }
     if let Some(dir) = value("--suite") {
         let report = bench::run_suite(&PathBuf::from(dir), &config, &pb)?;
         pb.finish_and_clear();

@@ -120,17 +120,24 @@ fn draw_speed_accuracy<DB: DrawingBackend>(
     points: &[ChartPoint],
 ) -> Result<ChartSummary, DrawingAreaErrorKind<DB::ErrorType>> {
     root.fill(&WHITE)?;
-    let x_hi = points.iter().map(|p| p.frame_ms).fold(0.0, f64::max) * 1.15 + 1e-3;
+    // Log time axis: frame times span orders of magnitude between proxies.
+    let x_hi = points.iter().map(|p| p.frame_ms).fold(1e-3, f64::max) * 1.6;
+    let x_lo = points
+        .iter()
+        .map(|p| p.frame_ms)
+        .filter(|&t| t > 0.0)
+        .fold(x_hi, f64::min)
+        / 1.4;
     let y = log_range(points.iter().map(|p| p.error));
     let mut chart = ChartBuilder::on(root)
         .caption(title, (FONT, 22))
         .margin(16)
         .x_label_area_size(48)
         .y_label_area_size(80)
-        .build_cartesian_2d(0.0..x_hi, y.log_scale())?;
+        .build_cartesian_2d((x_lo..x_hi).log_scale(), y.log_scale())?;
     chart
         .configure_mesh()
-        .x_desc(format!("frame time, ms ({})", timing.describe()))
+        .x_desc(format!("frame time, ms, log ({})", timing.describe()))
         .y_desc("coverage mismatch, % of pixels (log; 0 drawn at 1e-4)")
         .label_style((FONT, 14))
         .axis_desc_style((FONT, 15))
@@ -258,7 +265,7 @@ fn draw_bands<DB: DrawingBackend>(
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperMiddle)
+        .position(SeriesLabelPosition::LowerMiddle)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK.mix(0.3))
         .label_font((FONT, 12))
