@@ -153,21 +153,10 @@ fn standing_camera(scene: &Scene) -> DVec3 {
     DVec3::new(x as f64, y as f64, ground as f64 + 1.7)
 }
 
-/// LAS/LAZ points relative to the bounds' XY centre (z kept about the bounds' centre).
+/// A LAS/LAZ/PLY file through the crate's loader (origin at the centre of the bounds).
 fn load_las(path: &str) -> anyhow::Result<Scene> {
-    let mut reader = las::Reader::from_path(path)?;
-    let b = reader.header().bounds();
-    let origin = DVec3::new(
-        0.5 * (b.min.x + b.max.x),
-        0.5 * (b.min.y + b.max.y),
-        0.5 * (b.min.z + b.max.z),
-    );
-    let mut positions = Vec::new();
-    for p in reader.read_all()?.points() {
-        let p = p?;
-        positions.push((DVec3::new(p.x, p.y, p.z) - origin).as_vec3());
-    }
-    Ok(Scene::new(origin, positions, 0.0))
+    let (scene, _) = omnicloud::io::load_scene(path.as_ref(), &Default::default())?;
+    Ok(scene)
 }
 
 /// `n` points: 85 % rolling terrain over a square sized for ~4 points/m², 15 % on the walls

@@ -9,32 +9,11 @@ use omnicloud::raytrace::render;
 use omnicloud::render::{ColorMode, RenderSettings};
 use omnicloud::{Rendered, Scene};
 
-const AUTZEN: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../shared/data/las/autzen_trim.laz"
-);
+const AUTZEN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
 
-/// Minimal local reader (the crate's loader is written elsewhere): f64 points minus the
-/// bounds centre, stored f32; 8-bit colour held in the 16-bit fields.
 fn load_autzen() -> Scene {
-    let mut reader = las::Reader::from_path(AUTZEN).expect("autzen_trim.laz");
-    let b = reader.header().bounds();
-    let origin = DVec3::new(
-        0.5 * (b.min.x + b.max.x),
-        0.5 * (b.min.y + b.max.y),
-        0.5 * (b.min.z + b.max.z),
-    );
-    let data = reader.read_all().expect("read points");
-    let mut positions = Vec::new();
-    let mut rgb = Vec::new();
-    for p in data.points() {
-        let p = p.expect("decode point");
-        positions.push((DVec3::new(p.x, p.y, p.z) - origin).as_vec3());
-        let c = p.color.expect("autzen has colour");
-        rgb.push([c.red as u8, c.green as u8, c.blue as u8]);
-    }
-    let mut scene = Scene::new(origin, positions, 0.0);
-    scene.attributes.rgb = Some(rgb);
+    let (scene, _) = omnicloud::io::load_scene(AUTZEN.as_ref(), &Default::default())
+        .expect("the bundled sample loads");
     scene
 }
 
