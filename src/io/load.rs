@@ -118,7 +118,11 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
     let mut reader = open(path)?;
     let info = reader.info().clone();
     let up = options.up;
-    let reserve = info.point_count.min(MAX_RESERVE) as usize;
+    // The count is untrusted (LAZ and ascii PLY cannot check it against the file size), so the
+    // reservation is also bounded by the file length: real files spend at least about a byte
+    // per point, and where one spends less the vectors simply grow.
+    let file_len = std::fs::metadata(path).map_or(0, |m| m.len());
+    let reserve = info.point_count.min(MAX_RESERVE).min(file_len) as usize;
     let header_centre = info.bounds.map(|(lo, hi)| {
         let (a, b) = (up.to_world(lo), up.to_world(hi));
         (a.min(b), a.max(b))
