@@ -14,6 +14,18 @@ const CELLS_PER_RADIUS: f32 = 4.0;
 /// the ground, high enough to ignore a few noise points below it.
 const CELL_PERCENTILE: f32 = 0.1;
 
+/// Moves the scene's frame onto the camera (DESIGN §1: the origin is the camera position)
+/// and returns the camera's world position: `camera` when given (file coordinates), else
+/// [`auto_camera_position`]. `None` for an empty scene without a given camera.
+pub fn center_on_camera(scene: &mut Scene, camera: Option<DVec3>) -> Option<DVec3> {
+    let world = match camera {
+        Some(c) => c,
+        None => scene.origin + auto_camera_position(scene)?,
+    };
+    scene.recenter(world);
+    Some(world)
+}
+
 /// A camera position (local frame) at the XY centre of the scene's bounds, [`EYE_HEIGHT`]
 /// above the ground there; `None` for an empty scene.
 ///

@@ -10,7 +10,7 @@ use crate::output::{AnaglyphMethod, ImageFormat, Layout};
 use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
-use crate::{Rendered, output, placement, radius, raytrace};
+use crate::{Rendered, output, placement, radius, raster, raytrace};
 
 use super::args::{RenderArgs, StereoArg, UpArg};
 use super::parse::RadiusChoice;
@@ -58,15 +58,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             args.file.display()
         );
     }
-    let camera_world = match args.camera {
-        Some(c) => c,
-        None => {
-            let local = placement::auto_camera_position(&scene)
-                .context("could not place the camera automatically; pass --camera X,Y,Z")?;
-            scene.origin + local
-        }
-    };
-    scene.recenter(camera_world);
+    let camera_world = placement::center_on_camera(&mut scene, args.camera)
+        .context("could not place the camera automatically; pass --camera X,Y,Z")?;
 
     match args.radius {
         Some(RadiusChoice::Fixed(r)) => scene.radii = Radii::Uniform(r),
@@ -119,7 +112,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             r
         }
         RendererKind::Raster => {
-            bail!("the GPU rasterizer is not merged yet; use --renderer raytrace")
+            let rasterizer = raster::Rasterizer::new()?;
+            let pb = progress::bar(args.quiet, scene.len() as u64, "rasterizing");
+            let (r, stats) = rasterizer.render(&scene, &settings, &pb)?;
+            pb.finish_and_clear();
+            say(format!("{} ({})", stats, rasterizer.adapter_name()));
+            r
         }
     };
     say(format!("rendered in {:.2?}", render_start.elapsed()));

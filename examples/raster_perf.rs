@@ -1,0 +1,123 @@
+//! Frame times of the rasterizer per proxy/imposter mode on a generated cloud.
+//!
+//! `cargo run --release --example raster_perf -- [points] [width] [frames] [modes]`
+//! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
+//! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`). Prints the adapter, the timing source
+//! (GPU timestamps or wall clock) and, per mode, mono and ODS frame times.
+
+use glam::{DVec3, Vec3};
+use indicatif::ProgressBar;
+use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
+use omnicloud::raster::Rasterizer;
+use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
+use omnicloud::{Radii, Scene};
+
+/// A terrain-like cloud: a ground plane with bumps, walls and a few trees around the camera.
+fn cloud(n: usize) -> Scene {
+    let mut state = 0x9e3779b97f4a7c15u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f32 / (1u64 << 53) as f32
+    };
+    let positions = (0..n)
+        .map(|k| {
+            let (x, y) = (next() * 200.0 - 100.0, next() * 200.0 - 100.0);
+            match k % 10 {
+                0..=6 => Vec3::new(x, y, -1.7 + 0.3 * (0.1 * x).sin() * (0.13 * y).cos()),
+                7 | 8 => Vec3::new(
+                    x,
+                    30.0 * (k % 3) as f32 - 30.0 + 0.1 * next(),
+                    next() * 12.0 - 1.7,
+                ),
+                _ => Vec3::new(x * 0.2, y * 0.2, next() * 15.0 + 1.0),
+            }
+        })
+        .collect();
+    Scene {
+        origin: DVec3::ZERO,
+        positions,
+        radii: Radii::Uniform(0.06),
+        attributes: Default::default(),
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().collect();
+    let points: usize = args
+        .get(1)
+        .map(|s| s.parse())
+        .transpose()?
+        .unwrap_or(1_000_000);
+    let width: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1920);
+    let frames: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(3);
+    let modes: Option<Vec<String>> = args
+        .get(4)
+        .map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
+    let raster = Rasterizer::new()?;
+    println!("adapter: {}", raster.adapter_name());
+    let scene = cloud(points);
+    let mut base = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));
+    base.color = ColorMode::Elevation;
+    base.shading = Shading::Phong;
+    let uploaded = raster.upload(&scene, &base)?;
+    println!(
+        "{points} points, {width}x{} per eye, best of {frames} frames",
+        width / 2
+    );
+    for stereo in [
+        Stereo::Mono,
+        Stereo::Ods {
+            ipd: 0.064,
+            merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+            offset: OdsOffset::Exact,
+        },
+    ] {
+        for (proxy, imposter) in [
+            (Proxy::Bounds, Imposter::Raycast),
+            (Proxy::Quad, Imposter::Raycast),
+            (Proxy::Quad, Imposter::Sprite),
+            (Proxy::Static(4), Imposter::Sprite),
+            (Proxy::Dynamic, Imposter::Sprite),
+            (Proxy::Dynamic, Imposter::Raycast),
+        ] {
+            let name = format!("{proxy:?}-{imposter:?}")
+                .to_lowercase()
+                .replace(['(', ')'], "");
+            if modes.as_ref().is_some_and(|m| !m.contains(&name)) {
+                continue;
+            }
+            let mut s = base;
+            s.stereo = stereo;
+            s.proxy = proxy;
+            s.imposter = imposter;
+            let mut best = f64::INFINITY;
+            let mut source = None;
+            let mut stats = None;
+            for _ in 0..frames {
+                let (_, st, t) = raster.render_uploaded(&uploaded, &s, &ProgressBar::hidden())?;
+                best = best.min(t.seconds);
+                source = Some(t.source);
+                stats = Some(st);
+            }
+            let st = stats.expect("one frame");
+            println!(
+                "{:5} {:>10} {:>8}: {:8.1} ms ({:?}; {} vertices, {} batches, {} culled)",
+                if matches!(stereo, Stereo::Mono) {
+                    "mono"
+                } else {
+                    "ods"
+                },
+                format!("{proxy:?}"),
+                format!("{imposter:?}"),
+                best * 1e3,
+                source.expect("one frame"),
+                st.vertices,
+                st.batches,
+                st.culled
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,338 @@
+// Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
+// image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
+// Prepended: camera, equirect, pole_merge, ods, params.
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> vertices: array<vec4<u32>>;
+@group(0) @binding(4) var<storage, read_write> draw_args: DrawArgs;
+@group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
+
+struct DrawArgs {
+    vertex_count: atomic<u32>,
+    instance_count: u32,
+    first_vertex: u32,
+    first_instance: u32,
+}
+
+const STAT_CULLED: u32 = 0u;
+const STAT_DRAWN: u32 = 1u;
+const STAT_SPECIAL: u32 = 2u;
+const STAT_SEAM: u32 = 3u;
+const STAT_OVERFLOW: u32 = 4u;
+const STAT_VERTICES: u32 = 5u;
+const STATS_PER_EYE: u32 = 8u;
+
+const PROXY_BOUNDS: u32 = 0u;
+const PROXY_QUAD: u32 = 1u;
+const PROXY_STATIC: u32 = 2u;
+
+const IMPOSTER_RAYCAST: u32 = 0u;
+
+// Bit 31 of a vertex's point index: shade this proxy by ray casting whatever the imposter
+// mode (eye-enclosing, near-eye and pole-band proxies have no meaningful billboard).
+const FORCE_RAYCAST: u32 = 0x80000000u;
+
+// Angular slack added around analytic bounds, radians: covers f32 rounding of the bounds and
+// of the fragment's ray (about 0.06 px at 3840 wide).
+const ANGLE_MARGIN: f32 = 2e-4;
+
+struct Rect {
+    // (lam, phi) corners; lam may leave [-pi, pi).
+    lo: vec2<f32>,
+    hi: vec2<f32>,
+}
+
+struct Bounds {
+    rect: Rect,
+    special: bool,
+}
+
+fn count(k: u32, n: u32) {
+    atomicAdd(&stats[params.modes3.z * STATS_PER_EYE + k], n);
+}
+
+fn full_rect() -> Rect {
+    return Rect(vec2<f32>(-PI, -FRAC_PI_2), vec2<f32>(PI, FRAC_PI_2));
+}
+
+fn merge(v: View, phi: f32) -> f32 {
+    return pole_merging_factor(v.north, v.south, phi);
+}
+
+// Longitude/latitude box of the cone of directions from C to a ball of `radius` around `s`
+// (|s| > radius): latitude phi +- asin(radius/|s|), longitude +- asin(radius/rho); a band to
+// the pole when the ball meets the vertical axis (radius >= rho).
+fn cap_rect(b: Basis, s: vec3<f32>, radius: f32) -> Rect {
+    let x = dot(s, b.right);
+    let y = dot(s, b.forward);
+    let z = dot(s, b.up);
+    let rho = length(vec2<f32>(x, y));
+    let d = length(s);
+    let a = asin_accurate(min(radius / d, 1.0));
+    let phi = atan2(z, rho);
+    if radius >= rho * (1.0 - 1e-4) {
+        if z > 0.0 {
+            return Rect(vec2<f32>(-PI, phi - a), vec2<f32>(PI, FRAC_PI_2));
+        }
+        return Rect(vec2<f32>(-PI, -FRAC_PI_2), vec2<f32>(PI, phi + a));
+    }
+    let lam = atan2(x, y);
+    let half = asin_accurate(radius / rho);
+    return Rect(vec2<f32>(lam - half, phi - a), vec2<f32>(lam + half, phi + a));
+}
+
+// Conservative box of every (lam, phi) whose ray (this eye) hits the sphere (s, radius).
+// Exact-inverse argument: a hit X projects to its pixel, lam(X) = lamC(X) - e asin(r/rho(X)),
+// tan phi(X) = k tan phiC(X) with k = rho / sqrt(rho^2 - r^2); bound each factor over the ball.
+fn sphere_bounds(v: View, s: vec3<f32>, radius: f32) -> Bounds {
+    let d = length(s);
+    var h = 0.0;
+    if v.eye_sign != 0.0 {
+        h = v.half_ipd;
+    }
+    if d <= (radius + h) * (1.0 + 1e-5) + 1e-6 {
+        return Bounds(full_rect(), true);
+    }
+    let b = v.basis;
+    let rho = length(vec2<f32>(dot(s, b.right), dot(s, b.forward)));
+    if h == 0.0 || rho - radius <= h * (1.0 + 1e-3) + 1e-6 {
+        // Every ray origin lies within h of C: hit directions lie in the cone of the ball of
+        // radius + h.
+        let c = cap_rect(b, s, radius + h);
+        return Bounds(c, h > 0.0 || c.hi.x - c.lo.x >= TAU);
+    }
+    let mono = cap_rect(b, s, radius);
+    let rho_min = rho - radius;
+    let rho_max = rho + radius;
+    // merge() does not grow with |phi| and |phi(X)| >= |phiC(X)|: the largest circle radius
+    // is at the mono range's smallest |phi|.
+    var rmax = h;
+    if mono.lo.y > 0.0 {
+        rmax = h * merge(v, mono.lo.y);
+    } else if mono.hi.y < 0.0 {
+        rmax = h * merge(v, mono.hi.y);
+    }
+    let kmax = rho_min / sqrt(rho_min * rho_min - rmax * rmax);
+    let phi_lo = min(mono.lo.y, atan(kmax * tan(mono.lo.y)));
+    let phi_hi = max(mono.hi.y, atan(kmax * tan(mono.hi.y)));
+    let rmin = h * min(merge(v, phi_lo), merge(v, phi_hi));
+    let o1 = v.eye_sign * asin_accurate(rmin / rho_max);
+    let o2 = v.eye_sign * asin_accurate(rmax / rho_min);
+    let lam_lo = mono.lo.x - max(o1, o2);
+    let lam_hi = mono.hi.x - min(o1, o2);
+    return Bounds(Rect(vec2<f32>(lam_lo, phi_lo), vec2<f32>(lam_hi, phi_hi)), false);
+}
+
+fn encode(p: vec2<f32>, uv: vec2<f32>, idx: u32) -> vec4<u32> {
+    return vec4<u32>(bitcast<u32>(p.x), bitcast<u32>(p.y), pack2x16snorm(uv), idx);
+}
+
+// Reserves `n` vertices; returns the first, or 0xffffffff on overflow (counted).
+fn reserve(n: u32) -> u32 {
+    let base = atomicAdd(&draw_args.vertex_count, n);
+    if base + n > params.modes3.x {
+        atomicSub(&draw_args.vertex_count, n);
+        count(STAT_OVERFLOW, 1u);
+        return 0xffffffffu;
+    }
+    count(STAT_VERTICES, n);
+    return base;
+}
+
+// Writes the quad (p00, p10, p11, p01) as two triangles at `at`, shifted by `dx` pixels.
+fn write_quad(at: u32, p: array<vec2<f32>, 4>, uv: array<vec2<f32>, 4>, dx: f32, idx: u32) {
+    let s = vec2<f32>(dx, 0.0);
+    vertices[at + 0u] = encode(p[0] + s, uv[0], idx);
+    vertices[at + 1u] = encode(p[1] + s, uv[1], idx);
+    vertices[at + 2u] = encode(p[2] + s, uv[2], idx);
+    vertices[at + 3u] = encode(p[0] + s, uv[0], idx);
+    vertices[at + 4u] = encode(p[2] + s, uv[2], idx);
+    vertices[at + 5u] = encode(p[3] + s, uv[3], idx);
+}
+
+// Seam copies of a proxy spanning pixels [x0, x1]: shifts (0, +W and/or -W) to draw it with.
+fn seam_shifts(x0: f32, x1: f32, w: f32) -> vec3<f32> {
+    // (count, first extra shift, second extra shift)
+    var n = 1.0;
+    var a = 0.0;
+    var c = 0.0;
+    if x0 < 0.0 {
+        a = w;
+        n += 1.0;
+    }
+    if x1 > w {
+        if n > 1.0 {
+            c = -w;
+        } else {
+            a = -w;
+        }
+        n += 1.0;
+    }
+    return vec3<f32>(n, a, c);
+}
+
+fn emit_rect(r: Rect, idx: u32) {
+    let size = image_size(params);
+    var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
+    var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
+    if hi.x - lo.x >= TAU {
+        lo.x = -PI;
+        hi.x = PI;
+    }
+    lo.y = max(lo.y, -FRAC_PI_2);
+    hi.y = min(hi.y, FRAC_PI_2);
+    let c = 0.5 * (lo.x + hi.x);
+    let shift = wrap_longitude(c) - c;
+    lo.x += shift;
+    hi.x += shift;
+    let tl = position_of_angles_unwrapped(size, vec2<f32>(lo.x, hi.y));
+    let br = position_of_angles_unwrapped(size, vec2<f32>(hi.x, lo.y));
+    let p = array<vec2<f32>, 4>(tl, vec2<f32>(br.x, tl.y), br, vec2<f32>(tl.x, br.y));
+    let uv = array<vec2<f32>, 4>(vec2<f32>(-1.0, 1.0), vec2<f32>(1.0, 1.0), vec2<f32>(1.0, -1.0),
+                                 vec2<f32>(-1.0, -1.0));
+    let copies = seam_shifts(tl.x, br.x, size.x);
+    let n = u32(copies.x);
+    let base = reserve(6u * n);
+    if base == 0xffffffffu {
+        return;
+    }
+    write_quad(base, p, uv, 0.0, idx);
+    if n > 1u {
+        write_quad(base + 6u, p, uv, copies.y, idx);
+        count(STAT_SEAM, 1u);
+    }
+    if n > 2u {
+        write_quad(base + 12u, p, uv, copies.z, idx);
+    }
+    count(STAT_DRAWN, 1u);
+}
+
+struct Billboard {
+    center: vec3<f32>,
+    u: vec3<f32>,
+    v: vec3<f32>,
+    lam_c: f32,
+}
+
+// Grid vertex (a, b) in [-1, 1]^2 of the billboard, projected to unwrapped pixels; z = 0 when
+// it has no projection.
+fn billboard_vertex(view: View, bb: Billboard, a: f32, b: f32) -> vec3<f32> {
+    let q = project(view, bb.center + a * bb.u + b * bb.v);
+    if !q.ok {
+        return vec3<f32>(0.0);
+    }
+    let lam = bb.lam_c + wrap_longitude(q.angles.x - bb.lam_c);
+    return vec3<f32>(position_of_angles_unwrapped(image_size(params), vec2<f32>(lam, q.angles.y)), 1.0);
+}
+
+// Tessellation level after Algorithm 1 of Marrinan & Papka, adapted: a straight proxy edge of
+// L px at latitude phi bows by about L^2 tan|phi| / (8 P) px from the curve it stands for
+// (P = pixels per radian); split edges until the bow is under 1/4 px.
+fn dynamic_level(view: View, bb: Billboard, phi_c: f32, max_level: u32) -> u32 {
+    let p00 = billboard_vertex(view, bb, -1.0, -1.0).xy;
+    let p10 = billboard_vertex(view, bb, 1.0, -1.0).xy;
+    let p01 = billboard_vertex(view, bb, -1.0, 1.0).xy;
+    let p11 = billboard_vertex(view, bb, 1.0, 1.0).xy;
+    let edge = max(max(distance(p00, p10), distance(p01, p11)),
+                   max(distance(p00, p01), distance(p10, p11)));
+    let pixels_per_radian = image_size(params).y / PI;
+    let bow = sqrt(tan(min(abs(phi_c), 1.5)) / (2.0 * pixels_per_radian));
+    let level = u32(ceil(edge * bow));
+    return clamp(level, 1u, max_level);
+}
+
+// Projects the billboard's (n+1)^2 grid; writes it (with seam copies) or returns false when a
+// vertex has no projection.
+fn emit_billboard(view: View, bb: Billboard, n: u32, idx: u32) -> bool {
+    let w = image_size(params).x;
+    var x0 = 3.4e38;
+    var x1 = -3.4e38;
+    let step = 2.0 / f32(n);
+    for (var j = 0u; j <= n; j++) {
+        for (var i = 0u; i <= n; i++) {
+            let q = billboard_vertex(view, bb, -1.0 + step * f32(i), -1.0 + step * f32(j));
+            if q.z == 0.0 {
+                return false;
+            }
+            x0 = min(x0, q.x);
+            x1 = max(x1, q.x);
+        }
+    }
+    let copies = seam_shifts(x0, x1, w);
+    let ncopies = u32(copies.x);
+    let per_copy = 6u * n * n;
+    let base = reserve(per_copy * ncopies);
+    if base == 0xffffffffu {
+        return true;
+    }
+    let shifts = array<f32, 3>(0.0, copies.y, copies.z);
+    for (var j = 0u; j < n; j++) {
+        for (var i = 0u; i < n; i++) {
+            let a0 = -1.0 + step * f32(i);
+            let b0 = -1.0 + step * f32(j);
+            let a1 = a0 + step;
+            let b1 = b0 + step;
+            let p = array<vec2<f32>, 4>(
+                billboard_vertex(view, bb, a0, b1).xy, billboard_vertex(view, bb, a1, b1).xy,
+                billboard_vertex(view, bb, a1, b0).xy, billboard_vertex(view, bb, a0, b0).xy);
+            let uv = array<vec2<f32>, 4>(vec2<f32>(a0, b1), vec2<f32>(a1, b1), vec2<f32>(a1, b0),
+                                         vec2<f32>(a0, b0));
+            let cell = 6u * (j * n + i);
+            for (var c = 0u; c < ncopies; c++) {
+                write_quad(base + c * per_copy + cell, p, uv, shifts[c], idx);
+            }
+        }
+    }
+    if ncopies > 1u {
+        count(STAT_SEAM, 1u);
+    }
+    count(STAT_DRAWN, 1u);
+    return true;
+}
+
+@compute @workgroup_size(256)
+fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= params.modes2.w {
+        return;
+    }
+    let idx = params.modes3.w + gid.x;
+    let pt = points[idx];
+    let s = pt.xyz;
+    let radius = pt.w;
+    let view = view_of(params);
+    let raycast = params.modes2.x == IMPOSTER_RAYCAST;
+    let centre = project(view, s);
+    if !centre.ok {
+        count(STAT_CULLED, 1u);
+        if !raycast {
+            return;
+        }
+    }
+    let bounds = sphere_bounds(view, s, radius);
+    let proxy = params.modes.w;
+    if bounds.special || !centre.ok {
+        count(STAT_SPECIAL, 1u);
+        emit_rect(bounds.rect, idx | FORCE_RAYCAST);
+        return;
+    }
+    if proxy == PROXY_BOUNDS {
+        emit_rect(bounds.rect, idx);
+        return;
+    }
+    // Billboard facing C, half-size `radius` (the paper's imposter).
+    let dir = normalize(s);
+    let u = normalize(cross(dir, view.basis.up));
+    let v = cross(u, dir);
+    let bb = Billboard(s, radius * u, radius * v, centre.angles.x);
+    var n = 1u;
+    if proxy == PROXY_STATIC {
+        n = params.modes2.z;
+    } else if proxy != PROXY_QUAD {
+        n = dynamic_level(view, bb, centre.angles.y, params.modes3.y);
+    }
+    if !emit_billboard(view, bb, n, idx) {
+        count(STAT_SPECIAL, 1u);
+        emit_rect(bounds.rect, idx | FORCE_RAYCAST);
+    }
+}

@@ -1,0 +1,129 @@
+// Mirrors src/projection/ods.rs: the ODS ray and its exact inverse (DESIGN §3).
+// Everything is relative to the camera centre C, so f32 keeps sub-millimetre precision.
+
+struct View {
+    basis: Basis,
+    // -1 left, +1 right, 0 mono.
+    eye_sign: f32,
+    half_ipd: f32,
+    north: PoleMerge,
+    south: PoleMerge,
+    // 0 exact inverse, 1 the paper's per-vertex offset.
+    offset: u32,
+}
+
+struct Ray {
+    // Relative to C.
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+}
+
+// Projection result: `angles` valid only when `ok`.
+struct Projected {
+    angles: vec2<f32>,
+    ok: bool,
+}
+
+// asin through atan2: llvmpipe's asin is off by ~2e-4 rad near 0.5 (Vulkan allows asin the
+// error of atan2(x, sqrt(1 - x^2)) only), while its atan2 holds f32 accuracy.
+fn asin_accurate(x: f32) -> f32 {
+    return atan2(x, sqrt(max((1.0 - x) * (1.0 + x), 0.0)));
+}
+
+const FIXED_POINT_ITERATIONS: i32 = 8;
+// f32 bisection halves [0, ipd/2] to below f32 resolution in 24 steps.
+const BISECTION_STEPS: i32 = 24;
+
+// Viewing-circle radius r(phi) = (ipd / 2) merge(phi).
+fn circle_radius(v: View, phi: f32) -> f32 {
+    if v.half_ipd == 0.0 {
+        return 0.0;
+    }
+    return v.half_ipd * pole_merging_factor(v.north, v.south, phi);
+}
+
+// The ray of (lam, phi): origin relative to C and unit direction.
+fn ray(v: View, lam: f32, phi: f32) -> Ray {
+    let b = v.basis;
+    let dir = direction(b, lam, phi);
+    if v.eye_sign == 0.0 {
+        return Ray(vec3<f32>(0.0), dir);
+    }
+    let sl = sin(lam);
+    let cl = cos(lam);
+    let side = cl * b.right - sl * b.forward;
+    return Ray(v.eye_sign * circle_radius(v, phi) * side, dir);
+}
+
+fn latitude_for_radius(rho: f32, z: f32, r: f32) -> f32 {
+    return atan2(z, sqrt(max(rho * rho - r * r, 0.0)));
+}
+
+// Solves r = r(phi(r)) for horizontal distance `rho` and height `z`; -1 when the point lies
+// inside the viewing circle.
+fn solve_circle_radius(v: View, rho: f32, z: f32) -> f32 {
+    if circle_radius(v, latitude_for_radius(rho, z, rho)) > rho {
+        return -1.0;
+    }
+    if rho == 0.0 {
+        return 0.0;
+    }
+    var r = min(circle_radius(v, atan2(z, rho)), rho);
+    for (var k = 0; k < FIXED_POINT_ITERATIONS; k++) {
+        let next = min(circle_radius(v, latitude_for_radius(rho, z, r)), rho);
+        if abs(next - r) <= 1e-7 * v.half_ipd {
+            return next;
+        }
+        r = next;
+    }
+    var lo = 0.0;
+    var hi = min(rho, v.half_ipd);
+    for (var k = 0; k < BISECTION_STEPS; k++) {
+        let mid = 0.5 * (lo + hi);
+        if circle_radius(v, latitude_for_radius(rho, z, mid)) > mid {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+// Longitude and latitude of point `p` (relative to C) in this view; not ok when `p` has no
+// projection (inside the viewing circle, or at C).
+fn project(v: View, p: vec3<f32>) -> Projected {
+    let b = v.basis;
+    let x = dot(p, b.right);
+    let y = dot(p, b.forward);
+    let z = dot(p, b.up);
+    let rho = length(vec2<f32>(x, y));
+    let lam_c = atan2(x, y);
+    if v.eye_sign == 0.0 || v.half_ipd == 0.0 {
+        if rho == 0.0 && z == 0.0 {
+            return Projected(vec2<f32>(0.0), false);
+        }
+        return Projected(vec2<f32>(lam_c, atan2(z, rho)), true);
+    }
+    if v.offset == 0u {
+        let r = solve_circle_radius(v, rho, z);
+        if r < 0.0 {
+            return Projected(vec2<f32>(0.0), false);
+        }
+        let phi = latitude_for_radius(rho, z, r);
+        var dlam = 0.0;
+        if r > 0.0 {
+            dlam = asin_accurate(min(r / rho, 1.0));
+        }
+        return Projected(vec2<f32>(wrap_longitude(lam_c - v.eye_sign * dlam), phi), true);
+    }
+    if rho == 0.0 && z == 0.0 {
+        return Projected(vec2<f32>(0.0), false);
+    }
+    let r = circle_radius(v, atan2(z, rho));
+    let phi = atan2(z, length(vec2<f32>(rho, r)));
+    var dlam = 0.0;
+    if rho > 0.0 {
+        dlam = atan(r / rho);
+    }
+    return Projected(vec2<f32>(wrap_longitude(lam_c - v.eye_sign * dlam), phi), true);
+}

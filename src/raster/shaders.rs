@@ -1,0 +1,39 @@
+//! WGSL sources, composed by concatenation: the math files mirror `src/projection` and
+//! `src/render/shading.rs` file for file; the pipeline files use them.
+
+/// `shaders/camera.wgsl`.
+pub const CAMERA: &str = include_str!("../../shaders/camera.wgsl");
+/// `shaders/equirect.wgsl`.
+pub const EQUIRECT: &str = include_str!("../../shaders/equirect.wgsl");
+/// `shaders/pole_merge.wgsl`.
+pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
+/// `shaders/ods.wgsl`.
+pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
+/// `shaders/shading.wgsl`.
+pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
+/// `shaders/params.wgsl`: the per-(chunk, eye) uniform.
+pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
+/// `shaders/expand.wgsl`: the proxy-expansion compute pass.
+pub const EXPAND: &str = include_str!("../../shaders/expand.wgsl");
+/// `shaders/imposter.wgsl`: the imposter vertex and fragment stages.
+pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
+
+/// The projection math every pipeline needs, followed by `parts`.
+pub fn compose(parts: &[&str]) -> String {
+    let mut s = [CAMERA, EQUIRECT, POLE_MERGE, ODS].join("\n");
+    for p in parts {
+        s.push('\n');
+        s.push_str(p);
+    }
+    s
+}
+
+/// Source of the expand compute pipeline.
+pub fn expand_source() -> String {
+    compose(&[PARAMS, EXPAND])
+}
+
+/// Source of the imposter render pipeline.
+pub fn imposter_source() -> String {
+    compose(&[PARAMS, SHADING, IMPOSTER])
+}

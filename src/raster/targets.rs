@@ -1,0 +1,216 @@
+//! One eye's render targets and their read-back into a [`Frame`].
+
+use crate::frame::Frame;
+
+use super::context::GpuContext;
+use super::error::RasterError;
+use super::pipelines::{COLOR_FORMAT, DEPTH_FORMAT, DISTANCE_FORMAT};
+
+/// Colour, distance and depth-test textures of one eye.
+pub struct EyeTargets {
+    width: u32,
+    height: u32,
+    color: wgpu::Texture,
+    distance: wgpu::Texture,
+    depth: wgpu::Texture,
+    /// View of the colour texture.
+    pub color_view: wgpu::TextureView,
+    /// View of the distance texture.
+    pub distance_view: wgpu::TextureView,
+    /// View of the depth texture.
+    pub depth_view: wgpu::TextureView,
+}
+
+fn padded_row(width: u32) -> u32 {
+    (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
+}
+
+impl EyeTargets {
+    /// Allocates the textures for a `width x height` eye.
+    pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
+        let max = ctx.limits.max_texture_dimension_2d;
+        if width > max || height > max {
+            return Err(RasterError::Limit {
+                what: format!("a {width}x{height} image"),
+                needed: width.max(height) as u64,
+                limit: max as u64,
+            });
+        }
+        ctx.scoped("allocating render targets", || {
+            let make = |label, format, usage| {
+                ctx.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+            };
+            let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+            let color = make("color", COLOR_FORMAT, rt);
+            let distance = make("distance", DISTANCE_FORMAT, rt);
+            let depth = make(
+                "depth",
+                DEPTH_FORMAT,
+                wgpu::TextureUsages::RENDER_ATTACHMENT,
+            );
+            EyeTargets {
+                width,
+                height,
+                color_view: color.create_view(&Default::default()),
+                distance_view: distance.create_view(&Default::default()),
+                depth_view: depth.create_view(&Default::default()),
+                color,
+                distance,
+                depth,
+            }
+        })
+    }
+
+    /// Records a pass that clears all three targets to background.
+    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        let _ = &self.depth;
+        drop(self.begin_pass(encoder, true, None));
+    }
+
+    /// Begins a render pass into these targets, clearing them first when `clear`.
+    pub fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        clear: bool,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> wgpu::RenderPass<'e> {
+        let color_load = |c| {
+            if clear {
+                wgpu::LoadOp::Clear(c)
+            } else {
+                wgpu::LoadOp::Load
+            }
+        };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("imposters"),
+            color_attachments: &[
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &self.color_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: color_load(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+                Some(wgpu::RenderPassColorAttachment {
+                    view: &self.distance_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: color_load(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                }),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: if clear {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
+    /// Copies the colour and distance textures back into a [`Frame`].
+    pub fn read(&self, ctx: &GpuContext) -> Result<Frame, RasterError> {
+        let (w, h) = (self.width, self.height);
+        let row = padded_row(w);
+        let size = row as u64 * h as u64;
+        let (color_buf, dist_buf) = ctx.scoped("allocating read-back buffers", || {
+            let make = |label| {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size,
+                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                    mapped_at_creation: false,
+                })
+            };
+            (make("color read-back"), make("distance read-back"))
+        })?;
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        for (tex, buf) in [(&self.color, &color_buf), (&self.distance, &dist_buf)] {
+            encoder.copy_texture_to_buffer(
+                tex.as_image_copy(),
+                wgpu::TexelCopyBufferInfo {
+                    buffer: buf,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+        ctx.queue.submit([encoder.finish()]);
+        let color = map_read(ctx, &color_buf, "reading back colour")?;
+        let dist = map_read(ctx, &dist_buf, "reading back distances")?;
+        let mut frame = Frame::new(w, h);
+        for j in 0..h as usize {
+            let src = j * row as usize;
+            for i in 0..w as usize {
+                let k = j * w as usize + i;
+                let c = &color[src + 4 * i..src + 4 * i + 4];
+                if c[3] != 0 {
+                    frame.color[k] = [c[0], c[1], c[2], 255];
+                    let d = &dist[src + 4 * i..src + 4 * i + 4];
+                    frame.depth[k] = f32::from_le_bytes([d[0], d[1], d[2], d[3]]);
+                }
+            }
+        }
+        Ok(frame)
+    }
+}
+
+/// Maps `buffer` for reading, waits, and copies its bytes out.
+pub fn map_read(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    what: &str,
+) -> Result<Vec<u8>, RasterError> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.wait(what)?;
+    let gpu_err = |message: String| RasterError::Gpu {
+        while_doing: what.to_string(),
+        message,
+    };
+    rx.recv()
+        .map_err(|e| gpu_err(e.to_string()))?
+        .map_err(|e| gpu_err(e.to_string()))?;
+    let bytes = buffer
+        .get_mapped_range(..)
+        .map_err(|e| gpu_err(e.to_string()))?
+        .to_vec();
+    buffer.unmap();
+    Ok(bytes)
+}
