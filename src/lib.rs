@@ -8,6 +8,7 @@ pub mod cli;
 pub mod compare;
 pub mod frame;
 pub mod io;
+pub mod memory;
 pub mod output;
 pub mod placement;
 pub mod projection;
@@ -16,6 +17,8 @@ pub mod raster;
 pub mod raytrace;
 pub mod render;
 pub mod scene;
+pub mod stream;
+pub mod subsample;
 
 pub use frame::{Frame, Rendered};
 pub use scene::{Attributes, Radii, Scene};

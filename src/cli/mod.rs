@@ -4,6 +4,7 @@ pub mod args;
 pub mod parse;
 mod progress;
 mod render;
+mod render_guard;
 
 use anyhow::{Context, Result};
 
