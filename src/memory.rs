@@ -7,20 +7,23 @@
 
 use crate::io::FileInfo;
 
-/// Peak bytes per point of `render --renderer raytrace`, while the BVH is being built:
+/// Peak bytes per point of `render --renderer raytrace`, reached while the BVH is built.
 ///
-/// - scene, kept throughout: position 12, rgb 3, intensity 2, classification 1 (LAS has all
-///   three) = 18, plus 4 for a per-point radius;
+/// Measured (VmHWM of `omnicloud render --renderer raytrace --width 512`, minus the 9 MB of a
+/// 1,065-point run): 291 bytes per point on autzen_trim (110,000 points), 294 on the lion
+/// (341,989). Where it goes:
+///
+/// - scene, kept throughout: position 12, rgb 3, intensity 2, classification 1 = 18 (+4 for a
+///   per-point radius); while loading, 16-bit colour is held unscaled (6) next to it;
 /// - base colours 3;
-/// - tracer, kept while tracing (`Tracer::memory()`): sphere records 16, primitive indices 4,
-///   CWBVH nodes 80 each at ~0.18 nodes per point (1 node per 3 leaves of up to 3 spheres,
-///   measured on autzen_trim: 14.3 bytes per point);
-/// - transient during the build: obvhs's boxes (32), its PLOC BVH2 (2 nodes per point of 32
-///   bytes, 64), Morton codes and index arrays (~24).
+/// - tracer, resident while tracing (`Tracer::memory()`): sphere records 16, primitive
+///   indices 4, CWBVH nodes ~14 (80-byte nodes, ~0.18 per point) = ~34;
+/// - transient during the build (obvhs PLOC): boxes 32, BVH2 nodes (2 per point), Morton
+///   codes and index arrays, and the BVH2 and CWBVH alive together during conversion: the
+///   remaining ~230.
 ///
-/// Sum ≈ 18 + 3 + 34 + 120 ≈ 175; VmHWM measured 161 bytes per point on the lion scan
-/// (341,989 points; see the report). 192 keeps a margin for allocator slack and Vec growth.
-pub const RAYTRACE_BYTES_PER_POINT: u64 = 192;
+/// 320 keeps ~9% margin over the measurements.
+pub const RAYTRACE_BYTES_PER_POINT: u64 = 320;
 
 /// Fixed overhead of a process that loads and renders (code, thread stacks, the decoder's
 /// buffers, rayon): measured ~40 MB.

@@ -19,7 +19,7 @@ fn sigint_mid_render_leaves_nothing_behind() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pano.exr");
     // A render of several seconds: 341,989 points ray-traced at 4096 x 2048, ODS.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+    let child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
         .args([
             "render",
             "--renderer",
