@@ -167,7 +167,7 @@ pub fn peak_resident() -> Option<u64> {
 /// Why a render was refused before loading.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "{file}: {points} points need an estimated {need} with the ray tracer, over the memory cap of {cap}{source_of_cap}; use --renderer raster (streams the file through the GPU), --subsample N|auto, or raise --max-memory"
+    "{file}: {points} points need an estimated {need} with the ray tracer, over the memory cap of {cap}{source_of_cap}; use --renderer raster (GPU), --subsample N|auto, or raise --max-memory"
 )]
 pub struct OverBudget {
     /// The file.
