@@ -9,6 +9,7 @@ pub mod cli;
 pub mod compare;
 pub mod frame;
 pub mod io;
+pub mod memory;
 pub mod output;
 pub mod placement;
 pub mod projection;
@@ -17,6 +18,8 @@ pub mod raster;
 pub mod raytrace;
 pub mod render;
 pub mod scene;
+pub mod stream;
+pub mod subsample;
 pub mod suite;
 
 pub use frame::{Frame, Rendered};

@@ -22,6 +22,8 @@ pub struct Cli {
 
 /// The subcommands.
 #[derive(Debug, Subcommand)]
+// Parsed once per run: the size of the render variant does not matter.
+#[allow(clippy::large_enum_variant)]
 pub enum Command {
     /// Print a point cloud's format, point count, bounds, attributes and point spacing.
     Info {
@@ -144,6 +146,14 @@ pub struct RenderArgs {
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Memory cap, e.g. 2G or 800M (default: 80% of the available memory). The ray tracer
+    /// refuses, before loading, a cloud whose estimated need exceeds it.
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
+    /// Thin the cloud: N keeps every N-th point; auto keeps what can matter at this
+    /// resolution (sub-pixel spheres behind nearer ones are dropped).
+    #[arg(long, value_name = "N|auto", value_parser = crate::subsample::parse)]
+    pub subsample: Option<crate::subsample::Subsample>,
 }
 
 /// Options of `omnicloud compare`.

@@ -6,6 +6,7 @@ pub mod parse;
 mod prepare;
 mod progress;
 mod render;
+mod render_guard;
 
 use anyhow::{Context, Result};
 

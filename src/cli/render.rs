@@ -35,6 +35,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     };
 
+    crate::cli::render_guard::install_interrupt_handler();
+    crate::cli::render_guard::check_memory(args)?;
+
     let started = Instant::now();
     let options = LoadOptions {
         origin: args.camera,
@@ -79,6 +82,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             offset: args.ods_offset.into(),
         },
     };
+    if let Some(how) = args.subsample {
+        let before = scene.len();
+        let camera = crate::projection::Camera::new(DVec3::ZERO, args.yaw);
+        scene = crate::subsample::apply(&scene, how, &camera, Equirect::from_width(args.width));
+        say(format!(
+            "subsample {how:?}: kept {} of {before} points ({:.1}%)",
+            scene.len(),
+            100.0 * scene.len() as f64 / before.max(1) as f64
+        ));
+        crate::cli::render_guard::check_memory_after_subsample(args, &scene)?;
+    }
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
         camera: Camera::new(DVec3::ZERO, args.yaw),

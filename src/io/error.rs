@@ -107,6 +107,16 @@ pub enum LoadError {
         /// What the header said.
         detail: String,
     },
+    /// The file made a third-party decoder panic (corrupt data the decoder does not check).
+    #[error("{}: corrupt data: the decoder failed while {what}: {detail}", path.display())]
+    DecoderPanic {
+        /// The file.
+        path: PathBuf,
+        /// The step that failed, e.g. "decoding points".
+        what: &'static str,
+        /// The decoder's panic message.
+        detail: String,
+    },
     /// The PLY file has no `vertex` element with scalar `x`, `y` and `z` properties.
     #[error("{}: PLY has no 'vertex' element with scalar x, y and z properties ({detail})", path.display())]
     PlyMissingXyz {
@@ -132,7 +142,8 @@ impl LoadError {
             | LoadError::NoFinitePoints { path, .. }
             | LoadError::UnsupportedLasVersion { path, .. }
             | LoadError::UnsupportedLasPointFormat { path, .. }
-            | LoadError::PlyMissingXyz { path, .. } => path,
+            | LoadError::PlyMissingXyz { path, .. }
+            | LoadError::DecoderPanic { path, .. } => path,
         }
     }
 

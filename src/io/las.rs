@@ -2,11 +2,15 @@
 
 use super::chunk::{RawChunk, RawRgb};
 use super::error::LoadError;
+use super::guard::guarded;
 use super::info::{AttributesPresent, ColorDepth, FileInfo, Format};
 use glam::DVec3;
 use std::fs::File;
-use std::io::{BufReader, Seek, SeekFrom};
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
+
+/// Largest decoded byte buffer per read: 16 MiB, well above 65,536 points of any real format.
+const MAX_CHUNK_BYTES: u64 = 16 << 20;
 
 /// Streams the points of one LAS/LAZ file.
 pub(crate) struct LasSource {
@@ -15,6 +19,10 @@ pub(crate) struct LasSource {
     buffer: las::PointData,
     declared: u64,
     read: u64,
+    /// Bytes per point record, as the header declares.
+    record_len: u64,
+    /// Set after the decoder panicked: its state is unknown, so nothing more is read.
+    broken: bool,
 }
 
 /// Header problems as typed errors.
@@ -44,6 +52,41 @@ fn header_error(path: &Path, err: las::Error) -> LoadError {
             detail: other.to_string(),
         },
     }
+}
+
+/// Checks that the first extended VLR (the one the `las` crate reads) fits in the file: its
+/// 64-bit length is otherwise handed to a `Vec::resize` unchecked (found by fuzzing: a flipped
+/// bit asked for 17 GB).
+fn check_evlr(
+    path: &Path,
+    read: &mut BufReader<File>,
+    file_len: u64,
+    start: u64,
+) -> Result<(), LoadError> {
+    /// reserved u16, user id [u8; 16], record id u16, then the u64 length.
+    const LENGTH_AT: u64 = 20;
+    const EVLR_HEADER: u64 = 60;
+    let corrupt = |detail: String| LoadError::CorruptHeader {
+        path: path.to_path_buf(),
+        format: "LAS",
+        detail,
+    };
+    if start.saturating_add(EVLR_HEADER) > file_len {
+        return Err(corrupt(format!(
+            "the extended VLRs start at byte {start}, past the end of the {file_len}-byte file"
+        )));
+    }
+    let mut length = [0u8; 8];
+    read.seek(SeekFrom::Start(start + LENGTH_AT))
+        .and_then(|_| read.read_exact(&mut length))
+        .map_err(|e| LoadError::from_io(path, e))?;
+    let length = u64::from_le_bytes(length);
+    if (start + EVLR_HEADER).saturating_add(length) > file_len {
+        return Err(corrupt(format!(
+            "an extended VLR at byte {start} declares {length} bytes, more than the file holds"
+        )));
+    }
+    Ok(())
 }
 
 /// Opens a LAS/LAZ file, validating version, point format and, for uncompressed files, that
@@ -81,10 +124,15 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
             });
         }
     }
+    if let Some(evlr) = raw.evlr {
+        check_evlr(path, &mut read, file_len, evlr.start_of_first_evlr)?;
+    }
     read.seek(SeekFrom::Start(0))
         .map_err(|e| LoadError::from_io(path, e))?;
 
-    let reader = las::Reader::new(read).map_err(|e| header_error(path, e))?;
+    let reader = guarded(path, "reading the header", || {
+        las::Reader::new(read).map_err(|e| header_error(path, e))
+    })?;
     let header = reader.header();
     let declared = header.number_of_points();
     if declared == 0 {
@@ -133,6 +181,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
             buffer,
             declared,
             read: 0,
+            broken: false,
+            record_len: record_len.max(1),
         },
     ))
 }
@@ -140,18 +190,25 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
 impl LasSource {
     /// Reads up to `n` points; `None` once the declared count has been read.
     pub(crate) fn next_raw(&mut self, n: usize) -> Result<Option<RawChunk>, LoadError> {
-        if self.read >= self.declared {
+        if self.read >= self.declared || self.broken {
             return Ok(None);
         }
-        let got = self
-            .reader
-            .fill_points(n as u64, &mut self.buffer)
-            .map_err(|e| LoadError::CorruptPoints {
-                path: self.path.clone(),
-                read: self.read,
-                declared: self.declared,
-                detail: e.to_string(),
-            })?;
+        // The decoder sizes its byte buffer as points x record length before decoding; a
+        // corrupt record length (up to 65,535 bytes) would make that gigabytes per chunk.
+        let n = (n as u64).min((MAX_CHUNK_BYTES / self.record_len).max(1));
+        let (path, read, declared) = (&self.path, self.read, self.declared);
+        let (reader, buffer) = (&mut self.reader, &mut self.buffer);
+        let got = guarded(path, "decoding points", || {
+            reader
+                .fill_points(n, buffer)
+                .map_err(|e| LoadError::CorruptPoints {
+                    path: path.clone(),
+                    read,
+                    declared,
+                    detail: e.to_string(),
+                })
+        })
+        .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
         if got == 0 {
             return Ok(None);
         }

@@ -90,6 +90,16 @@ enum ColorAccum {
     Bits16(Vec<[u16; 3]>),
 }
 
+/// Largest |coordinate| kept, metres. Beyond it a point is treated like a NaN one: f64 values
+/// near f32::MAX become infinite once re-originated to f32 (the fuzz harness found PLY files
+/// whose retyped properties read as 1e300), and no scan spans 1e30 m.
+const MAX_COORDINATE: f64 = 1e30;
+
+/// A point that survives loading: finite and within [`MAX_COORDINATE`].
+fn usable(p: DVec3) -> bool {
+    p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
+}
+
 fn keep<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
     if let Some(values) = values {
         let out = out.get_or_insert_with(Vec::new);
@@ -118,7 +128,11 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
     let mut reader = open(path)?;
     let info = reader.info().clone();
     let up = options.up;
-    let reserve = info.point_count.min(MAX_RESERVE) as usize;
+    // The count is untrusted (LAZ and ascii PLY cannot check it against the file size), so the
+    // reservation is also bounded by the file length: real files spend at least about a byte
+    // per point, and where one spends less the vectors simply grow.
+    let file_len = std::fs::metadata(path).map_or(0, |m| m.len());
+    let reserve = info.point_count.min(MAX_RESERVE).min(file_len) as usize;
     let header_centre = info.bounds.map(|(lo, hi)| {
         let (a, b) = (up.to_world(lo), up.to_world(hi));
         (a.min(b), a.max(b))
@@ -143,7 +157,7 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
         } = raw;
         points_read += file_positions.len() as u64;
         let world: Vec<DVec3> = file_positions.into_iter().map(|p| up.to_world(p)).collect();
-        let kept: Vec<bool> = world.iter().map(|p| p.is_finite()).collect();
+        let kept: Vec<bool> = world.iter().map(|p| usable(*p)).collect();
         dropped += kept.iter().filter(|k| !**k).count() as u64;
 
         let positions = positions.get_or_insert_with(|| {
@@ -153,7 +167,7 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
                     let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
                     world
                         .iter()
-                        .filter(|p| p.is_finite())
+                        .filter(|p| usable(**p))
                         .all(|p| p.cmpge(*blo - slack).all() && p.cmple(*bhi + slack).all())
                 })
                 .map(|(blo, bhi)| (blo + bhi) * 0.5);
@@ -162,7 +176,7 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
                 None => Positions::World(Vec::with_capacity(reserve)),
             }
         });
-        for p in world.iter().filter(|p| p.is_finite()) {
+        for p in world.iter().filter(|p| usable(**p)) {
             lo = lo.min(*p);
             hi = hi.max(*p);
             match positions {

@@ -8,6 +8,7 @@
 
 mod chunk;
 mod error;
+mod guard;
 mod info;
 mod las;
 mod load;

@@ -8,12 +8,43 @@
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::OutputError;
 
 /// Distinguishes temporary files of one process written at the same time.
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Temporary files that exist right now, so that an interrupt handler can remove them
+/// ([`remove_staged_files`]).
+static LIVE_TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn live_temps() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while holding the lock leaves a valid Vec: keep using it.
+    LIVE_TEMPS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+fn forget_temp(temp: &Path) {
+    live_temps().retain(|t| t != temp);
+}
+
+/// Deletes every temporary output file this process has staged and not yet committed, for an
+/// interrupt (Ctrl-C) handler that exits right after. Returns how many were removed.
+///
+/// The registry stays locked afterwards, so no thread can stage a new file between this call
+/// and the exit (a writer that tries blocks until the process ends).
+pub fn remove_staged_files() -> usize {
+    let mut temps = live_temps();
+    let removed = temps
+        .drain(..)
+        .filter(|t| std::fs::remove_file(t).is_ok())
+        .count();
+    std::mem::forget(temps);
+    removed
+}
 
 /// A fully written temporary file waiting to be renamed onto its destination.
 ///
@@ -43,10 +74,15 @@ impl StagedFile {
         write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
     ) -> Result<StagedFile, OutputError> {
         let temp = temp_path(dest);
-        let file = File::create(&temp).map_err(|source| OutputError::Io {
-            path: dest.to_path_buf(),
-            action: "creating temporary file",
-            source,
+        // Registered before it exists, so an interrupt at any point finds it.
+        live_temps().push(temp.clone());
+        let file = File::create(&temp).map_err(|source| {
+            forget_temp(&temp);
+            OutputError::Io {
+                path: dest.to_path_buf(),
+                action: "creating temporary file",
+                source,
+            }
         })?;
         // From here on, Drop removes the temporary file on every early return.
         let staged = StagedFile {
@@ -77,6 +113,7 @@ impl StagedFile {
             source,
         })?;
         self.committed = true;
+        forget_temp(&self.temp);
         Ok(self.dest.clone())
     }
 }
@@ -86,6 +123,7 @@ impl Drop for StagedFile {
         if !self.committed {
             // Best effort: the file may already be gone, and Drop cannot report errors.
             let _ = std::fs::remove_file(&self.temp);
+            forget_temp(&self.temp);
         }
     }
 }

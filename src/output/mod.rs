@@ -17,7 +17,7 @@ pub mod linear_image;
 pub mod png;
 
 pub use anaglyph::{AnaglyphMethod, anaglyph, write_anaglyph};
-pub use atomic::{StagedFile, write_atomically};
+pub use atomic::{StagedFile, remove_staged_files, write_atomically};
 pub use error::OutputError;
 pub use exr::{ExrContent, read_exr};
 pub use format::ImageFormat;

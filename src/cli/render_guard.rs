@@ -1,0 +1,77 @@
+//! The render command's safeguards (issue 6): the memory cap checked before loading, and the
+//! Ctrl-C handler that removes unfinished outputs.
+
+use anyhow::Result;
+
+use crate::memory::{self, check_budget};
+use crate::render::RendererKind;
+use crate::subsample::Subsample;
+
+use super::args::{RenderArgs, StereoArg};
+
+fn eyes(args: &RenderArgs) -> u32 {
+    match args.stereo {
+        StereoArg::None => 1,
+        StereoArg::Ods => 2,
+    }
+}
+
+/// The cap in force and whether it is the default.
+fn cap(args: &RenderArgs) -> Option<(u64, bool)> {
+    match args.max_memory {
+        Some(c) => Some((c, false)),
+        None => memory::default_cap().map(|c| (c, true)),
+    }
+}
+
+/// Refuses, from the header's point count and before loading, a ray-traced render whose
+/// estimated peak exceeds the cap. With `--subsample auto` the kept count is not known yet:
+/// only the loading part is checked here, the rest by [`check_memory_after_subsample`].
+pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
+    if args.renderer != RendererKind::Raytrace {
+        return Ok(());
+    }
+    let Some((cap, is_default)) = cap(args) else {
+        return Ok(());
+    };
+    let info = crate::io::open(&args.file)?.info().clone();
+    let estimate = match args.subsample {
+        Some(Subsample::Auto) => {
+            memory::raytrace_estimate(info.point_count, 0, args.width, eyes(args))
+        }
+        Some(Subsample::Every(n)) => {
+            memory::raytrace_estimate_for(&info, n, args.width, eyes(args))
+        }
+        None => memory::raytrace_estimate_for(&info, 1, args.width, eyes(args)),
+    };
+    check_budget(&args.file, &estimate, cap, is_default)?;
+    Ok(())
+}
+
+/// After `--subsample`, checks the tracer's part for the points actually kept.
+pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Scene) -> Result<()> {
+    if args.renderer != RendererKind::Raytrace {
+        return Ok(());
+    }
+    let Some((cap, is_default)) = cap(args) else {
+        return Ok(());
+    };
+    let info = crate::io::open(&args.file)?.info().clone();
+    let estimate =
+        memory::raytrace_estimate(info.point_count, scene.len() as u64, args.width, eyes(args));
+    check_budget(&args.file, &estimate, cap, is_default)?;
+    Ok(())
+}
+
+/// On Ctrl-C (or SIGTERM): delete staged output files and exit with status 130 and one line.
+/// Outputs are written to a temporary name and renamed when complete, so after this no
+/// partial file remains. Installing twice (tests, library use) is harmless.
+pub(super) fn install_interrupt_handler() {
+    let _ = ctrlc::set_handler(|| {
+        let removed = crate::output::remove_staged_files();
+        eprintln!(
+            "omnicloud: interrupted; no partial output left ({removed} unfinished file(s) removed)"
+        );
+        std::process::exit(130);
+    });
+}

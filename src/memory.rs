@@ -1,0 +1,274 @@
+//! Memory budgets: parsing sizes (`2G`, `800M`), the machine's available memory, and the
+//! estimate of what the ray tracer will need for a file, from its header alone, so that a
+//! cloud too large for the cap is refused before anything is loaded.
+//!
+//! The per-point figures are measured (see [`RAYTRACE_BYTES_PER_POINT`]); the estimate is the
+//! peak, which comes while the BVH is built, not what stays resident while tracing.
+
+use crate::io::FileInfo;
+
+/// Peak bytes per point of `render --renderer raytrace`, reached while the BVH is built.
+///
+/// Measured (VmHWM of `omnicloud render --renderer raytrace --width 512`, minus the 9 MB of a
+/// 1,065-point run): 291 bytes per point on autzen_trim (110,000 points), 294 on the lion
+/// (341,989). Where it goes:
+///
+/// - scene, kept throughout: position 12, rgb 3, intensity 2, classification 1 = 18 (+4 for a
+///   per-point radius); while loading, 16-bit colour is held unscaled (6) next to it;
+/// - base colours 3;
+/// - tracer, resident while tracing (`Tracer::memory()`): sphere records 16, primitive
+///   indices 4, CWBVH nodes ~14 (80-byte nodes, ~0.18 per point) = ~34;
+/// - transient during the build (obvhs PLOC): boxes 32, BVH2 nodes (2 per point), Morton
+///   codes and index arrays, and the BVH2 and CWBVH alive together during conversion: the
+///   remaining ~230.
+///
+/// 320 keeps ~9% margin over the measurements.
+pub const RAYTRACE_BYTES_PER_POINT: u64 = 320;
+
+/// Fixed overhead of a process that loads and renders (code, thread stacks, the decoder's
+/// buffers, rayon): measured ~40 MB.
+pub const BASE_BYTES: u64 = 64 << 20;
+
+/// Fraction of `MemAvailable` used when no `--max-memory` is given.
+pub const DEFAULT_FRACTION: f64 = 0.8;
+
+/// What a render is expected to need, bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryEstimate {
+    /// Points the file declares.
+    pub points: u64,
+    /// Bytes for the points (scene, colours, BVH build).
+    pub points_bytes: u64,
+    /// Bytes for the frames (colour + depth per pixel per eye, plus the output image).
+    pub image_bytes: u64,
+    /// Fixed process overhead.
+    pub base_bytes: u64,
+}
+
+impl MemoryEstimate {
+    /// Total bytes.
+    pub fn total(&self) -> u64 {
+        self.points_bytes
+            .saturating_add(self.image_bytes)
+            .saturating_add(self.base_bytes)
+    }
+}
+
+/// Bytes per point of a loaded scene before any renderer runs: position 12, rgb 3,
+/// intensity 2, classification 1, a per-point radius 4, and 2 of Vec slack.
+pub const LOADED_BYTES_PER_POINT: u64 = 24;
+
+/// Estimates the ray tracer's peak for `loaded` points read from the file, of which `traced`
+/// remain after subsampling, rendered at `width x width/2` per eye for `eyes` eyes.
+pub fn raytrace_estimate(loaded: u64, traced: u64, width: u32, eyes: u32) -> MemoryEstimate {
+    let pixels = u64::from(width) * u64::from(width / 2) * u64::from(eyes);
+    let loaded_bytes = loaded.saturating_mul(LOADED_BYTES_PER_POINT);
+    let traced_bytes = traced.saturating_mul(RAYTRACE_BYTES_PER_POINT - LOADED_BYTES_PER_POINT);
+    MemoryEstimate {
+        points: loaded,
+        points_bytes: loaded_bytes.saturating_add(traced_bytes),
+        // Frame: 4 colour + 4 depth bytes; the output writer converts to RGBA/EXR (up to 20
+        // bytes per pixel for RGBA f32 + Z).
+        image_bytes: pixels * (8 + 20),
+        base_bytes: BASE_BYTES,
+    }
+}
+
+/// Estimate for a file from its header's point count, keeping one point in `keep_every`.
+pub fn raytrace_estimate_for(
+    info: &FileInfo,
+    keep_every: u64,
+    width: u32,
+    eyes: u32,
+) -> MemoryEstimate {
+    let kept = info.point_count.div_ceil(keep_every.max(1));
+    raytrace_estimate(info.point_count, kept, width, eyes)
+}
+
+/// Parses a size: a number with an optional binary unit `K`, `M`, `G`, `T` (powers of 1024,
+/// optionally followed by `B` or `iB`, case-insensitive), e.g. `2G`, `800M`, `1.5GiB`, `4096`.
+///
+/// # Errors
+/// A message saying what is wrong with the value.
+pub fn parse_size(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let lower = t.to_ascii_lowercase();
+    let body = lower
+        .strip_suffix("ib")
+        .or_else(|| lower.strip_suffix('b'))
+        .unwrap_or(&lower);
+    let (number, unit) = match body.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&body[..i], c),
+        _ => (body, ' '),
+    };
+    let scale: u64 = match unit {
+        ' ' => 1,
+        'k' => 1 << 10,
+        'm' => 1 << 20,
+        'g' => 1 << 30,
+        't' => 1 << 40,
+        _ => return Err(format!("'{s}': unknown unit '{unit}' (use K, M, G or T)")),
+    };
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a size (e.g. 2G, 800M, 1.5GiB)"))?;
+    let bytes = value * scale as f64;
+    if !(bytes.is_finite() && bytes >= 1.0) {
+        return Err(format!("'{s}': a memory size must be at least one byte"));
+    }
+    if bytes >= u64::MAX as f64 {
+        return Err(format!("'{s}' is too large"));
+    }
+    Ok(bytes as u64)
+}
+
+/// `bytes` as a short human size: `1.5 GiB`, `800.0 MiB`.
+pub fn format_size(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = bytes as f64;
+    let mut unit = 0;
+    while v >= 1024.0 && unit + 1 < UNITS.len() {
+        v /= 1024.0;
+        unit += 1;
+    }
+    if unit == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{v:.1} {}", UNITS[unit])
+    }
+}
+
+/// `MemAvailable` from `/proc/meminfo`, bytes; `None` where it cannot be read (not Linux).
+pub fn mem_available() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    parse_meminfo_kb(&text, "MemAvailable:").map(|kb| kb * 1024)
+}
+
+/// The default cap: [`DEFAULT_FRACTION`] of `MemAvailable`, or no cap when it is unknown.
+pub fn default_cap() -> Option<u64> {
+    mem_available().map(|b| (b as f64 * DEFAULT_FRACTION) as u64)
+}
+
+/// A `NAME:   1234 kB` line of `/proc/meminfo` or `/proc/self/status`, in kB.
+pub fn parse_meminfo_kb(text: &str, name: &str) -> Option<u64> {
+    text.lines()
+        .find_map(|l| l.strip_prefix(name))
+        .and_then(|rest| rest.split_whitespace().next())
+        .and_then(|v| v.parse().ok())
+}
+
+/// Peak resident memory of this process (`VmHWM`), bytes; `None` where unavailable.
+pub fn peak_resident() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_meminfo_kb(&text, "VmHWM:").map(|kb| kb * 1024)
+}
+
+/// Why a render was refused before loading.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{file}: {points} points need an estimated {need} with the ray tracer, over the memory cap of {cap}{source_of_cap}; use --renderer raster (GPU), --subsample N|auto, or raise --max-memory"
+)]
+pub struct OverBudget {
+    /// The file.
+    pub file: String,
+    /// Points the estimate is for.
+    pub points: u64,
+    /// The estimate, formatted.
+    pub need: String,
+    /// The cap, formatted.
+    pub cap: String,
+    /// Where the cap comes from (empty when given on the command line).
+    pub source_of_cap: String,
+}
+
+/// Checks `estimate` against `cap`; `cap_is_default` words the error.
+///
+/// # Errors
+/// [`OverBudget`] when the estimate exceeds the cap.
+pub fn check_budget(
+    file: &std::path::Path,
+    estimate: &MemoryEstimate,
+    cap: u64,
+    cap_is_default: bool,
+) -> Result<(), OverBudget> {
+    if estimate.total() <= cap {
+        return Ok(());
+    }
+    Err(OverBudget {
+        file: file.display().to_string(),
+        points: estimate.points,
+        need: format_size(estimate.total()),
+        cap: format_size(cap),
+        source_of_cap: if cap_is_default {
+            format!(
+                " ({:.0}% of the available memory)",
+                DEFAULT_FRACTION * 100.0
+            )
+        } else {
+            String::new()
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_with_binary_units() {
+        assert_eq!(parse_size("2G"), Ok(2 << 30));
+        assert_eq!(parse_size("800M"), Ok(800 << 20));
+        assert_eq!(parse_size("800m"), Ok(800 << 20));
+        assert_eq!(parse_size("1.5GiB"), Ok(3 << 29));
+        assert_eq!(parse_size("64KB"), Ok(64 << 10));
+        assert_eq!(parse_size("4096"), Ok(4096));
+        assert_eq!(parse_size(" 1T "), Ok(1 << 40));
+        for bad in [
+            "", "G", "-1G", "0", "2X", "nanG", "infG", "1e30T", "2 G B B",
+        ] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn sizes_format_readably() {
+        assert_eq!(format_size(512), "512 B");
+        assert_eq!(format_size(3 << 29), "1.5 GiB");
+        assert_eq!(format_size(800 << 20), "800.0 MiB");
+    }
+
+    #[test]
+    fn meminfo_lines_parse() {
+        let text = "MemTotal:       24000000 kB\nMemAvailable:   21000000 kB\n";
+        assert_eq!(parse_meminfo_kb(text, "MemAvailable:"), Some(21_000_000));
+        assert_eq!(parse_meminfo_kb(text, "VmHWM:"), None);
+        assert!(peak_resident().is_some_and(|b| b > 0));
+    }
+
+    #[test]
+    fn the_budget_names_estimate_and_cap() {
+        let est = raytrace_estimate(100_000_000, 100_000_000, 3840, 1);
+        assert!(est.total() > 100_000_000 * RAYTRACE_BYTES_PER_POINT);
+        let e = check_budget(std::path::Path::new("big.laz"), &est, 2 << 30, false).unwrap_err();
+        let text = e.to_string();
+        for needle in [
+            "big.laz",
+            "100000000 points",
+            "2.0 GiB",
+            "--renderer raster",
+            "--subsample",
+        ] {
+            assert!(text.contains(needle), "{needle}: {text}");
+        }
+        assert!(
+            check_budget(
+                std::path::Path::new("a"),
+                &raytrace_estimate(10, 10, 64, 1),
+                1 << 30,
+                true
+            )
+            .is_ok()
+        );
+    }
+}

@@ -1,0 +1,81 @@
+//! The accuracy cost of `--subsample auto` against the full render, on real scans.
+//!
+//! Reference and test are ray-traced (the exact renderer) from the auto camera with the auto
+//! radius at 1024 x 512, colour = rgb; `compare` gives coverage IoU, depth error and colour
+//! PSNR. Thresholds: the auto model only drops sub-pixel spheres behind the 4 nearest in
+//! their pixel, so the coverage must stay (IoU ≥ 0.98: a hidden sphere that is removed can
+//! uncover a pixel only where all 4 nearer sub-pixel spheres miss the pixel's centre ray)
+//! and the visible depth must barely move (median relative depth error below 0.5%), while a
+//! dense scene loses a real fraction of its points (≥ 20%).
+
+use indicatif::ProgressBar;
+use omnicloud::io::{LoadOptions, load_scene};
+use omnicloud::output::LinearImage;
+use omnicloud::projection::Camera;
+use omnicloud::render::{ColorMode, RenderSettings};
+use omnicloud::subsample::{Subsample, apply};
+use omnicloud::{Rendered, placement, radius, raytrace};
+use std::path::Path;
+
+fn frame(r: &Rendered) -> LinearImage {
+    match r {
+        Rendered::Mono(f) => LinearImage::from_frame(f),
+        Rendered::Stereo { left, .. } => LinearImage::from_frame(left),
+    }
+}
+
+/// (kept fraction, IoU, median relative depth error, colour PSNR dB) of auto vs full.
+fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/data")
+        .join(rel);
+    let (mut scene, _) = load_scene(&path, &LoadOptions::default()).unwrap();
+    placement::center_on_camera(&mut scene, None).unwrap();
+    scene.radii = omnicloud::Radii::Uniform(radius::auto_radius(&scene));
+    let mut settings = RenderSettings::new(width, Camera::new(glam::DVec3::ZERO, 0.0));
+    settings.color = if scene.attributes.rgb.is_some() {
+        ColorMode::Rgb
+    } else {
+        ColorMode::Elevation
+    };
+    let thin = apply(&scene, Subsample::Auto, &settings.camera, settings.image);
+    let pb = ProgressBar::hidden();
+    let full = raytrace::render(&scene, &settings, &pb).unwrap();
+    let test = raytrace::render(&thin, &settings, &pb).unwrap();
+    let report = omnicloud::compare::compare(&frame(&full), &frame(&test)).unwrap();
+    let all = &report.eyes[0].all;
+    let kept = thin.len() as f64 / scene.len() as f64;
+    let depth = all.depth_relative.as_ref().map_or(0.0, |d| d.p50);
+    let psnr = all.color_psnr_db.unwrap_or(f64::INFINITY);
+    eprintln!(
+        "{rel} at {width}: kept {} of {} ({:.1}%), IoU {:.4}, mismatch {:.3}%, depth p50 {:.2e} p99 {:.2e}, PSNR {:.1} dB",
+        thin.len(),
+        scene.len(),
+        100.0 * kept,
+        all.iou,
+        all.mismatch_percent,
+        depth,
+        all.depth_relative.as_ref().map_or(0.0, |d| d.p99),
+        psnr
+    );
+    (kept, all.iou, depth, psnr)
+}
+
+#[test]
+fn auto_subsample_of_autzen_keeps_the_picture() {
+    let (kept, iou, depth, _) = measure("las/autzen_trim.laz", 1024);
+    assert!(
+        kept < 0.8,
+        "kept {kept}: too little dropped on a dense scene"
+    );
+    assert!(iou >= 0.98, "coverage IoU {iou}");
+    assert!(depth < 5e-3, "median relative depth error {depth}");
+}
+
+#[test]
+fn auto_subsample_of_the_lion_keeps_the_picture() {
+    let (kept, iou, depth, _) = measure("large/potree_lion_takanawa_merged.las", 1024);
+    assert!(kept < 0.9, "kept {kept}");
+    assert!(iou >= 0.98, "coverage IoU {iou}");
+    assert!(depth < 5e-3, "median relative depth error {depth}");
+}
