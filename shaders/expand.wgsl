@@ -1,6 +1,7 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
-// Prepended: camera, equirect, pole_merge, ods, params.
+// Prepended: camera, equirect, pole_merge, ods, params; appended: sphere and splat (or
+// splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
@@ -21,6 +22,7 @@ const STAT_SPECIAL: u32 = 2u;
 const STAT_SEAM: u32 = 3u;
 const STAT_OVERFLOW: u32 = 4u;
 const STAT_VERTICES: u32 = 5u;
+const STAT_SPLATTED: u32 = 6u;
 const STATS_PER_EYE: u32 = 8u;
 
 const PROXY_BOUNDS: u32 = 0u;
@@ -317,6 +319,11 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     if proxy == PROXY_BOUNDS {
+        if raycast && try_splat(view, bounds.rect, s, radius, idx) {
+            count(STAT_DRAWN, 1u);
+            count(STAT_SPLATTED, 1u);
+            return;
+        }
         emit_rect(bounds.rect, idx);
         return;
     }

@@ -56,7 +56,12 @@ fn agree(scene: &Scene, settings: &RenderSettings, label: &str) -> Option<Compar
         assert!(all.ref_hits > 1000, "{label}: too few hits to judge");
         assert!(all.mismatch_percent <= 0.1, "{label} {}: coverage", eye.eye);
         let depth = all.depth_relative.as_ref().expect("both hit somewhere");
-        assert!(depth.p99 <= 1e-4, "{label} {}: depth p99 {}", eye.eye, depth.p99);
+        assert!(
+            depth.p99 <= 1e-4,
+            "{label} {}: depth p99 {}",
+            eye.eye,
+            depth.p99
+        );
         assert_eq!(all.color_rmse, Some(0.0), "{label} {}: colour", eye.eye);
     }
     Some(report)
@@ -72,13 +77,21 @@ fn autzen() -> Scene {
 
 #[test]
 fn real_sample_mono() {
-    agree(&autzen(), &settings(1024, Stereo::Mono, ColorMode::Rgb), "autzen mono");
+    agree(
+        &autzen(),
+        &settings(1024, Stereo::Mono, ColorMode::Rgb),
+        "autzen mono",
+    );
 }
 
 #[test]
 fn real_sample_ods_with_pole_merging() {
     let stereo = ods(PoleMerge::COMFORTABLE, PoleMerge::CYCLES_DEFAULT);
-    agree(&autzen(), &settings(1024, stereo, ColorMode::Rgb), "autzen ods");
+    agree(
+        &autzen(),
+        &settings(1024, stereo, ColorMode::Rgb),
+        "autzen ods",
+    );
 }
 
 #[test]
@@ -86,8 +99,14 @@ fn stress_scene_ods_with_pole_merging() {
     let scene = raster_common::stress_scene(1500);
     for (label, stereo) in [
         ("stress mono", Stereo::Mono),
-        ("stress ods comfortable", ods(PoleMerge::COMFORTABLE, PoleMerge::COMFORTABLE)),
-        ("stress ods cycles/off", ods(PoleMerge::CYCLES_DEFAULT, PoleMerge::Off)),
+        (
+            "stress ods comfortable",
+            ods(PoleMerge::COMFORTABLE, PoleMerge::COMFORTABLE),
+        ),
+        (
+            "stress ods cycles/off",
+            ods(PoleMerge::CYCLES_DEFAULT, PoleMerge::Off),
+        ),
     ] {
         agree(&scene, &settings(768, stereo, ColorMode::Rgb), label);
     }
