@@ -304,7 +304,14 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let radius = pt.w;
     let view = view_of(params);
     let raycast = params.modes2.x == IMPOSTER_RAYCAST;
-    let centre = project(view, s);
+    let proxy = params.modes.w;
+    // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.
+    var centre = Projected(vec2<f32>(0.0), false);
+    if raycast && proxy == PROXY_BOUNDS {
+        centre.ok = has_projection(view, s);
+    } else {
+        centre = project(view, s);
+    }
     if !centre.ok {
         count(STAT_CULLED, 1u);
         if !raycast {
@@ -312,7 +319,6 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     let bounds = sphere_bounds(view, s, radius);
-    let proxy = params.modes.w;
     if bounds.special || !centre.ok {
         count(STAT_SPECIAL, 1u);
         emit_rect(bounds.rect, idx | FORCE_RAYCAST);
