@@ -1,9 +1,11 @@
 //! Frame times of the rasterizer per proxy/imposter mode on a generated cloud.
 //!
-//! `cargo run --release --example raster_perf -- [points] [width] [frames] [modes]`
+//! `cargo run --release --example raster_perf -- [points] [width] [frames] [modes] [splat] [rt]`
 //! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
-//! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`). Prints the adapter, the timing source
-//! (GPU timestamps or wall clock) and, per mode, mono and ODS frame times.
+//! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`; `splat` is
+//! the compute splat's limit in pixels, 0 off; `rt` also times the CPU ray tracer on the same
+//! cloud). Prints the adapter, the timing source (GPU timestamps or wall clock) and, per
+//! mode, mono and ODS frame times.
 
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
@@ -55,7 +57,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let modes: Option<Vec<String>> = args
         .get(4)
         .map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
-    let raster = Rasterizer::new()?;
+    let mut raster = Rasterizer::new()?;
+    if let Some(limit) = args.get(5) {
+        raster.set_splat_limit(limit.parse()?);
+    }
+    let with_ray_tracer = args.get(6).is_some_and(|a| a == "rt");
     println!("adapter: {}", raster.adapter_name());
     let scene = cloud(points);
     let mut base = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));
@@ -66,14 +72,33 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{points} points, {width}x{} per eye, best of {frames} frames",
         width / 2
     );
-    for stereo in [
-        Stereo::Mono,
-        Stereo::Ods {
-            ipd: 0.064,
-            merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-            offset: OdsOffset::Exact,
-        },
-    ] {
+    let ods = Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    };
+    if with_ray_tracer {
+        let t0 = std::time::Instant::now();
+        let tracer = omnicloud::raytrace::Tracer::new(&scene)?;
+        println!("ray tracer: BVH {:.1} ms", t0.elapsed().as_secs_f64() * 1e3);
+        for stereo in [Stereo::Mono, ods] {
+            let mut s = base;
+            s.stereo = stereo;
+            let t0 = std::time::Instant::now();
+            omnicloud::raytrace::render_with_tracer(&tracer, &scene, &s, &ProgressBar::hidden())?;
+            println!(
+                "{:5} ray tracer: {:8.1} ms ({} threads)",
+                if matches!(stereo, Stereo::Mono) {
+                    "mono"
+                } else {
+                    "ods"
+                },
+                t0.elapsed().as_secs_f64() * 1e3,
+                rayon::current_num_threads()
+            );
+        }
+    }
+    for stereo in [Stereo::Mono, ods] {
         for (proxy, imposter) in [
             (Proxy::Bounds, Imposter::Raycast),
             (Proxy::Quad, Imposter::Raycast),
@@ -103,7 +128,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let st = stats.expect("one frame");
             println!(
-                "{:5} {:>10} {:>8}: {:8.1} ms ({:?}; {} vertices, {} batches, {} culled)",
+                "{:5} {:>10} {:>8}: {:8.1} ms ({:?}; {} vertices, {} splatted, {} batches, {} culled)",
                 if matches!(stereo, Stereo::Mono) {
                     "mono"
                 } else {
@@ -114,6 +139,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 best * 1e3,
                 source.expect("one frame"),
                 st.vertices,
+                st.splatted,
                 st.batches,
                 st.culled
             );

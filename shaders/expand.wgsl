@@ -1,6 +1,7 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
-// Prepended: camera, equirect, pole_merge, ods, params.
+// Prepended: camera, equirect, pole_merge, ods, params; appended: sphere and splat (or
+// splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
@@ -21,6 +22,7 @@ const STAT_SPECIAL: u32 = 2u;
 const STAT_SEAM: u32 = 3u;
 const STAT_OVERFLOW: u32 = 4u;
 const STAT_VERTICES: u32 = 5u;
+const STAT_SPLATTED: u32 = 6u;
 const STATS_PER_EYE: u32 = 8u;
 
 const PROXY_BOUNDS: u32 = 0u;
@@ -302,7 +304,14 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let radius = pt.w;
     let view = view_of(params);
     let raycast = params.modes2.x == IMPOSTER_RAYCAST;
-    let centre = project(view, s);
+    let proxy = params.modes.w;
+    // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.
+    var centre = Projected(vec2<f32>(0.0), false);
+    if raycast && proxy == PROXY_BOUNDS {
+        centre.ok = has_projection(view, s);
+    } else {
+        centre = project(view, s);
+    }
     if !centre.ok {
         count(STAT_CULLED, 1u);
         if !raycast {
@@ -310,13 +319,17 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     let bounds = sphere_bounds(view, s, radius);
-    let proxy = params.modes.w;
     if bounds.special || !centre.ok {
         count(STAT_SPECIAL, 1u);
         emit_rect(bounds.rect, idx | FORCE_RAYCAST);
         return;
     }
     if proxy == PROXY_BOUNDS {
+        if raycast && try_splat(view, bounds.rect, s, radius, idx) {
+            count(STAT_DRAWN, 1u);
+            count(STAT_SPLATTED, 1u);
+            return;
+        }
         emit_rect(bounds.rect, idx);
         return;
     }

@@ -28,67 +28,44 @@ fn vs(@location(0) xy: vec2<f32>, @location(1) uv: u32, @location(2) point: u32)
     return VertexOut(vec4<f32>(clip, 0.5, 1.0), unpack2x16snorm(uv), point);
 }
 
-// Nearest t > 0 where the ray meets the sphere, or -1. The discriminant comes from the
-// perpendicular offset (not b^2 - c) and the near root from c / q, so neither cancels when
-// the sphere is small and far (Ray Tracing Gems, ch. 7).
-fn intersect_sphere(r: Ray, center: vec3<f32>, radius: f32) -> f32 {
-    let oc = r.origin - center;
-    let b = dot(oc, r.dir);
-    let perp = oc - b * r.dir;
-    let disc = radius * radius - dot(perp, perp);
-    if disc < 0.0 {
-        return -1.0;
-    }
-    let c = dot(oc, oc) - radius * radius;
-    let q = -b - sign(b) * sqrt(disc);
-    if b == 0.0 && c == 0.0 {
-        return -1.0;
-    }
-    var t0 = c / q;
-    var t1 = q;
-    if b == 0.0 {
-        t0 = -sqrt(disc);
-        t1 = sqrt(disc);
-    }
-    let near = min(t0, t1);
-    let far = max(t0, t1);
-    if near > 0.0 {
-        return near;
-    }
-    if far > 0.0 {
-        return far;
-    }
-    return -1.0;
+// One fragment's shading; `hit` false where the fragment shows no sphere.
+struct Shaded {
+    hit: bool,
+    color: vec4<f32>,
+    distance: f32,
+    depth: f32,
 }
 
-@fragment
-fn fs(in: VertexOut) -> FragmentOut {
-    let index = in.point & ~FORCE_RAYCAST_BIT;
+// Shades pixel `pos` (centre, pixels) as point `point` (bit 31: force ray casting); `uv` is
+// the billboard coordinate for sprites.
+fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
+    let miss = Shaded(false, vec4<f32>(0.0), 0.0, 1.0);
+    let index = point & ~FORCE_RAYCAST_BIT;
     let pt = points[index];
     let center = pt.xyz;
     let radius = pt.w;
     let view = view_of(params);
-    let a = angles_of_position(image_size(params), in.position.xy);
+    let a = angles_of_position(image_size(params), pos);
     let r = ray(view, a.x, a.y);
     var t: f32;
     var normal: vec3<f32>;
     var hit: vec3<f32>;
-    if params.modes2.x == 0u || (in.point & FORCE_RAYCAST_BIT) != 0u {
+    if params.modes2.x == 0u || (point & FORCE_RAYCAST_BIT) != 0u {
         t = intersect_sphere(r, center, radius);
         if t <= 0.0 {
-            discard;
+            return miss;
         }
         hit = r.origin + t * r.dir;
         normal = (hit - center) / radius;
     } else {
-        let rr = dot(in.uv, in.uv);
+        let rr = dot(uv, uv);
         if rr > 1.0 {
-            discard;
+            return miss;
         }
         let dir = normalize(center);
         let u = normalize(cross(dir, view.basis.up));
         let v = cross(u, dir);
-        normal = in.uv.x * u + in.uv.y * v - sqrt(1.0 - rr) * dir;
+        normal = uv.x * u + uv.y * v - sqrt(1.0 - rr) * dir;
         hit = center + radius * normal;
         t = distance(hit, r.origin);
     }
@@ -103,5 +80,43 @@ fn fs(in: VertexOut) -> FragmentOut {
     let near = params.image.z;
     let far = params.image.w;
     let depth = clamp(log(t / near) / log(far / near), 0.0, 1.0);
-    return FragmentOut(vec4<f32>(c / 255.0, 1.0), t, depth);
+    return Shaded(true, vec4<f32>(c / 255.0, 1.0), t, depth);
+}
+
+@fragment
+fn fs(in: VertexOut) -> FragmentOut {
+    let s = shade_pixel(in.position.xy, in.point, in.uv);
+    if !s.hit {
+        discard;
+    }
+    return FragmentOut(s.color, s.distance, s.depth);
+}
+
+// Splat keys per pixel, as written by the compute splat (see splat.wgsl): x = !point index,
+// y = !distance bits; (0, 0) = nothing splatted. Read as u32 pairs so this stage needs no
+// 64-bit support.
+@group(0) @binding(3) var<storage, read> splat_keys: array<vec2<u32>>;
+
+// A triangle covering the whole image.
+@vertex
+fn vs_fullscreen(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let x = f32((i << 1u) & 2u) * 2.0 - 1.0;
+    let y = f32(i & 2u) * 2.0 - 1.0;
+    return vec4<f32>(x, y, 0.5, 1.0);
+}
+
+// Resolves the nearest splatted sphere of each pixel into the targets; the depth test keeps
+// whichever of it and the rasterized proxies is nearer.
+@fragment
+fn fs_resolve(@builtin(position) position: vec4<f32>) -> FragmentOut {
+    let width = u32(image_size(params).x);
+    let key = splat_keys[u32(position.y) * width + u32(position.x)];
+    if key.x == 0u && key.y == 0u {
+        discard;
+    }
+    let s = shade_pixel(position.xy, ~key.x | FORCE_RAYCAST_BIT, vec2<f32>(0.0));
+    if !s.hit {
+        discard;
+    }
+    return FragmentOut(s.color, s.distance, s.depth);
 }

@@ -89,6 +89,20 @@ fn solve_circle_radius(v: View, rho: f32, z: f32) -> f32 {
     return 0.5 * (lo + hi);
 }
 
+// True when `project(v, p)` is ok, without its fixed-point solve: the solve fails only on
+// its first test (the point lies inside the viewing circle).
+fn has_projection(v: View, p: vec3<f32>) -> bool {
+    let b = v.basis;
+    let x = dot(p, b.right);
+    let y = dot(p, b.forward);
+    let z = dot(p, b.up);
+    let rho = length(vec2<f32>(x, y));
+    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != 0u {
+        return !(rho == 0.0 && z == 0.0);
+    }
+    return !(circle_radius(v, latitude_for_radius(rho, z, rho)) > rho);
+}
+
 // Longitude and latitude of point `p` (relative to C) in this view; not ok when `p` has no
 // projection (inside the viewing circle, or at C).
 fn project(v: View, p: vec3<f32>) -> Projected {

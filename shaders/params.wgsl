@@ -6,7 +6,7 @@ struct Params {
     forward: vec4<f32>,
     // xyz right, w half ipd.
     right: vec4<f32>,
-    // xyz up, w unused.
+    // xyz up, w compute-splat limit (pixels per side, 0 off).
     up: vec4<f32>,
     // Merge parameters a, b, c of the north and south profiles.
     north: vec4<f32>,

@@ -134,3 +134,38 @@ fn small_batches_through_one_depth_buffer_give_the_same_frames() {
     assert_eq!(one.drawn, many.drawn);
     assert!(whole == batched, "batched frames differ");
 }
+
+#[test]
+fn compute_splat_and_drawing_give_the_same_frames() {
+    let Some(mut raster) = rasterizer() else {
+        return;
+    };
+    let scene = stress_scene(1500);
+    let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+    let (splatted, with) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+    raster.set_splat_limit(0);
+    let (drawn, without) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+    eprintln!("splat: {with}\ndraw: {without}");
+    assert_eq!(without.splatted, 0);
+    if raster.can_splat() {
+        assert!(with.splatted > 1000, "too few spheres splatted: {with}");
+        assert!(with.vertices < without.vertices);
+    }
+    assert_eq!(with.drawn, without.drawn);
+    let pairs = match (&splatted, &drawn) {
+        (
+            Rendered::Stereo { left, right },
+            Rendered::Stereo {
+                left: l2,
+                right: r2,
+            },
+        ) => [(left, l2), (right, r2)],
+        _ => panic!("ODS renders two eyes"),
+    };
+    for (a, b) in pairs {
+        let differ = (0..a.color.len())
+            .filter(|&k| a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits())
+            .count();
+        assert_eq!(differ, 0, "{differ} pixels differ between splat and draw");
+    }
+}

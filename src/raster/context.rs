@@ -16,6 +16,9 @@ pub struct GpuContext {
     pub limits: wgpu::Limits,
     /// True when the device has `TIMESTAMP_QUERY`.
     pub timestamps: bool,
+    /// True when the device has 64-bit storage atomics (`atomicMax` on `atomic<u64>`), which
+    /// the compute splat path needs.
+    pub int64_atomics: bool,
     lost: Arc<Mutex<Option<String>>>,
     uncaptured: Arc<Mutex<Option<String>>>,
 }
@@ -61,11 +64,15 @@ impl GpuContext {
         // chunk sizes, and nothing else here depends on lower limits.
         let limits = adapter.limits();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let required_features = if timestamps {
-            wgpu::Features::TIMESTAMP_QUERY
-        } else {
-            wgpu::Features::empty()
-        };
+        let int64 = wgpu::Features::SHADER_INT64 | wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX;
+        let int64_atomics = adapter.features().contains(int64);
+        let mut required_features = wgpu::Features::empty();
+        if timestamps {
+            required_features |= wgpu::Features::TIMESTAMP_QUERY;
+        }
+        if int64_atomics {
+            required_features |= int64;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("omnicloud raster"),
             required_features,
@@ -98,6 +105,7 @@ impl GpuContext {
             adapter_name,
             limits,
             timestamps,
+            int64_atomics,
             lost,
             uncaptured,
         })

@@ -121,3 +121,11 @@ impl Params {
         }
     }
 }
+
+impl Params {
+    /// Sets the compute splat's largest sphere, in pixels per side of its bounds (0: off).
+    pub fn with_splat_limit(mut self, pixels: u32) -> Self {
+        self.up[3] = pixels as f32;
+        self
+    }
+}

@@ -21,6 +21,8 @@ pub struct Pipelines {
     pub expand: wgpu::ComputePipeline,
     /// Imposter rasterization.
     pub imposter: wgpu::RenderPipeline,
+    /// Full-image pass merging the compute splat's nearest hits into the targets.
+    pub resolve: wgpu::RenderPipeline,
 }
 
 impl Pipelines {
@@ -30,7 +32,7 @@ impl Pipelines {
         ctx.scoped("compiling the rasterizer shaders", || {
             let expand_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("expand.wgsl"),
-                source: wgpu::ShaderSource::Wgsl(shaders::expand_source().into()),
+                source: wgpu::ShaderSource::Wgsl(shaders::expand_source(ctx.int64_atomics).into()),
             });
             let imposter_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("imposter.wgsl"),
@@ -59,13 +61,7 @@ impl Pipelines {
                     })],
                 },
                 primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(depth_test()),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &imposter_module,
@@ -76,7 +72,43 @@ impl Pipelines {
                 multiview_mask: None,
                 cache: None,
             });
-            Pipelines { expand, imposter }
+            let resolve = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("splat resolve"),
+                layout: None,
+                vertex: wgpu::VertexState {
+                    module: &imposter_module,
+                    entry_point: Some("vs_fullscreen"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(depth_test()),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &imposter_module,
+                    entry_point: Some("fs_resolve"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(COLOR_FORMAT.into()), Some(DISTANCE_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            });
+            Pipelines {
+                expand,
+                imposter,
+                resolve,
+            }
         })
+    }
+}
+
+/// Nearest fragment wins; both render pipelines write the logarithmic depth they test.
+fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
     }
 }

@@ -28,6 +28,8 @@ pub struct RasterStats {
     pub special: u64,
     /// Proxies drawn a second time across the seam.
     pub seam_copies: u64,
+    /// Proxies ray cast by the compute splat instead of drawn (counted in `drawn` too).
+    pub splatted: u64,
     /// Vertices written.
     pub vertices: u64,
     /// Expand/draw batches submitted (per eye).
@@ -38,9 +40,15 @@ impl std::fmt::Display for RasterStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} proxies drawn ({} special, {} seam copies, {} vertices, {} batches), \
+            "{} proxies drawn ({} special, {} seam copies, {} splatted, {} vertices, {} batches), \
              {} points inside the viewing circle",
-            self.drawn, self.special, self.seam_copies, self.vertices, self.batches, self.culled
+            self.drawn,
+            self.special,
+            self.seam_copies,
+            self.splatted,
+            self.vertices,
+            self.batches,
+            self.culled
         )
     }
 }
@@ -65,12 +73,16 @@ pub struct FrameTiming {
 
 const STATS_PER_EYE: usize = 8;
 const MAX_EYES: usize = 2;
+/// Default largest sphere the compute splat ray casts, in pixels per side of its bounds;
+/// larger ones are drawn.
+pub const DEFAULT_SPLAT_LIMIT: u32 = 16;
 
 /// A GPU imposter-sphere rasterizer bound to one device; reusable across renders.
 pub struct Rasterizer {
     pub(crate) ctx: GpuContext,
     pipelines: Pipelines,
     batch_limit: Option<u32>,
+    splat_limit: u32,
 }
 
 /// A scene's points and colours on the GPU, relative to one camera centre.
@@ -108,6 +120,7 @@ impl Rasterizer {
             ctx,
             pipelines,
             batch_limit: None,
+            splat_limit: DEFAULT_SPLAT_LIMIT,
         })
     }
 
@@ -115,6 +128,18 @@ impl Rasterizer {
     /// Smaller batches exercise the chunked path; results must not change.
     pub fn set_batch_limit(&mut self, points: Option<u32>) {
         self.batch_limit = points;
+    }
+
+    /// Sets the largest sphere (pixels per side of its bounds) that the compute splat ray
+    /// casts instead of drawing; 0 draws every sphere. The splat runs only for ray-cast
+    /// imposters on analytic bounds, on devices with 64-bit atomics; results must not change.
+    pub fn set_splat_limit(&mut self, pixels: u32) {
+        self.splat_limit = pixels;
+    }
+
+    /// True when this device can run the compute splat.
+    pub fn can_splat(&self) -> bool {
+        self.ctx.int64_atomics
     }
 
     /// The adapter's name and backend.
@@ -279,6 +304,32 @@ impl Rasterizer {
             .map(|_| EyeTargets::new(ctx, img.width, img.height))
             .collect::<Result<Vec<_>, _>>()?;
 
+        let splat_bytes = img.width as u64 * img.height as u64 * 8;
+        let splat = ctx.int64_atomics
+            && self.splat_limit > 0
+            && settings.proxy == crate::render::Proxy::Bounds
+            && settings.imposter == crate::render::Imposter::Raycast
+            && splat_bytes
+                <= ctx
+                    .limits
+                    .max_buffer_size
+                    .min(ctx.limits.max_storage_buffer_binding_size);
+        let splat_limit = if splat { self.splat_limit } else { 0 };
+        // One key buffer per eye; a placeholder binding when the splat is off for this render.
+        let splat_keys = ctx.scoped("allocating splat buffers", || {
+            views
+                .iter()
+                .map(|_| {
+                    device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("splat keys"),
+                        size: if splat { splat_bytes } else { 8 },
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    })
+                })
+                .collect::<Vec<_>>()
+        })?;
+
         let per_point = max_vertices_per_point(settings.proxy);
         let vertex_bytes_max = ctx
             .limits
@@ -350,6 +401,9 @@ impl Rasterizer {
         let started = Instant::now();
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&stats_buf, 0, None);
+        for keys in &splat_keys {
+            encoder.clear_buffer(keys, 0, None);
+        }
         for t in &targets {
             t.clear(&mut encoder);
         }
@@ -358,24 +412,49 @@ impl Rasterizer {
         progress.set_length(uploaded.points * views.len() as u64);
         let mut batches = 0u64;
         for chunk in &uploaded.chunks {
-            let (expand_bg, draw_bg) = ctx.scoped("binding a chunk", || {
+            let (expand_bgs, draw_bg, resolve_bgs) = ctx.scoped("binding a chunk", || {
                 fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                     wgpu::BindGroupEntry {
                         binding,
                         resource: buffer.as_entire_binding(),
                     }
                 }
-                let expand_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("expand"),
-                    layout: &self.pipelines.expand.get_bind_group_layout(0),
-                    entries: &[
-                        entry(0, &params_buf),
-                        entry(1, &chunk.points),
-                        entry(3, &vertices),
-                        entry(4, &args),
-                        entry(5, &stats_buf),
-                    ],
-                });
+                let expand_bgs: Vec<_> = splat_keys
+                    .iter()
+                    .map(|keys| {
+                        let mut entries = vec![
+                            entry(0, &params_buf),
+                            entry(1, &chunk.points),
+                            entry(3, &vertices),
+                            entry(4, &args),
+                            entry(5, &stats_buf),
+                        ];
+                        if ctx.int64_atomics {
+                            entries.push(entry(6, keys));
+                        }
+                        device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some("expand"),
+                            layout: &self.pipelines.expand.get_bind_group_layout(0),
+                            entries: &entries,
+                        })
+                    })
+                    .collect();
+                let resolve_bgs: Vec<_> = splat_keys
+                    .iter()
+                    .filter(|_| splat)
+                    .map(|keys| {
+                        device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some("splat resolve"),
+                            layout: &self.pipelines.resolve.get_bind_group_layout(0),
+                            entries: &[
+                                entry(0, &params_buf),
+                                entry(1, &chunk.points),
+                                entry(2, &chunk.colors),
+                                entry(3, keys),
+                            ],
+                        })
+                    })
+                    .collect();
                 let draw_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("imposters"),
                     layout: &self.pipelines.imposter.get_bind_group_layout(0),
@@ -385,20 +464,22 @@ impl Rasterizer {
                         entry(2, &chunk.colors),
                     ],
                 });
-                (expand_bg, draw_bg)
+                (expand_bgs, draw_bg, resolve_bgs)
             })?;
             let mut first = 0u32;
             while first < chunk.len {
                 let count = (chunk.len - first).min(batch as u32);
                 for (eye, (view, target)) in views.iter().zip(&targets).enumerate() {
                     let params =
-                        Params::new(view, settings, eye as u32, (first, count), vertex_capacity);
+                        Params::new(view, settings, eye as u32, (first, count), vertex_capacity)
+                            .with_splat_limit(splat_limit);
                     ctx.queue
                         .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
                     ctx.queue
                         .write_buffer(&args, 0, bytemuck::cast_slice(&[0u32, 1, 0, 0]));
                     let mut encoder = device.create_command_encoder(&Default::default());
-                    let (first_step, last_step) = (step == 0, step + 1 == total_steps);
+                    // With the splat, the last resolve pass ends the frame instead.
+                    let (first_step, last_step) = (step == 0, step + 1 == total_steps && !splat);
                     step += 1;
                     {
                         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -412,7 +493,7 @@ impl Rasterizer {
                             }),
                         });
                         pass.set_pipeline(&self.pipelines.expand);
-                        pass.set_bind_group(0, &expand_bg, &[]);
+                        pass.set_bind_group(0, &expand_bgs[eye], &[]);
                         pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
                     }
                     {
@@ -436,6 +517,35 @@ impl Rasterizer {
                     batches += 1;
                 }
                 first += count;
+            }
+            // Splat keys index this chunk's points: merge them before the next chunk.
+            for (eye, ((view, target), bg)) in
+                views.iter().zip(&targets).zip(&resolve_bgs).enumerate()
+            {
+                let params = Params::new(view, settings, eye as u32, (0, 0), vertex_capacity);
+                ctx.queue
+                    .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
+                let last = std::ptr::eq(chunk, uploaded.chunks.last().expect("a chunk"))
+                    && eye + 1 == views.len();
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let writes =
+                        query
+                            .as_ref()
+                            .filter(|_| last)
+                            .map(|q| wgpu::RenderPassTimestampWrites {
+                                query_set: q,
+                                beginning_of_pass_write_index: None,
+                                end_of_pass_write_index: Some(1),
+                            });
+                    let mut pass = target.begin_pass(&mut encoder, false, writes);
+                    pass.set_pipeline(&self.pipelines.resolve);
+                    pass.set_bind_group(0, bg, &[]);
+                    pass.draw(0..3, 0..1);
+                }
+                encoder.clear_buffer(&splat_keys[eye], 0, None);
+                ctx.queue.submit([encoder.finish()]);
+                ctx.wait("resolving splatted spheres")?;
             }
         }
         ctx.wait("drawing imposters")?;
@@ -488,6 +598,7 @@ impl Rasterizer {
             drawn: sum(1),
             special: sum(2),
             seam_copies: sum(3),
+            splatted: sum(6),
             vertices: sum(5),
             batches,
         };

@@ -15,6 +15,12 @@ pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
 pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
 /// `shaders/expand.wgsl`: the proxy-expansion compute pass.
 pub const EXPAND: &str = include_str!("../../shaders/expand.wgsl");
+/// `shaders/sphere.wgsl`: the ray-sphere intersection.
+pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
+/// `shaders/splat.wgsl`: the compute splat of small spheres (64-bit atomics).
+pub const SPLAT: &str = include_str!("../../shaders/splat.wgsl");
+/// `shaders/splat_off.wgsl`: the splat's stand-in without 64-bit atomics.
+pub const SPLAT_OFF: &str = include_str!("../../shaders/splat_off.wgsl");
 /// `shaders/imposter.wgsl`: the imposter vertex and fragment stages.
 pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
 
@@ -28,12 +34,18 @@ pub fn compose(parts: &[&str]) -> String {
     s
 }
 
-/// Source of the expand compute pipeline.
-pub fn expand_source() -> String {
-    compose(&[PARAMS, EXPAND])
+/// Source of the expand compute pipeline; `splat` includes the compute splat (the device
+/// must have 64-bit atomics).
+pub fn expand_source(splat: bool) -> String {
+    compose(&[
+        PARAMS,
+        EXPAND,
+        SPHERE,
+        if splat { SPLAT } else { SPLAT_OFF },
+    ])
 }
 
 /// Source of the imposter render pipeline.
 pub fn imposter_source() -> String {
-    compose(&[PARAMS, SHADING, IMPOSTER])
+    compose(&[PARAMS, SHADING, SPHERE, IMPOSTER])
 }

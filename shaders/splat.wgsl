@@ -1,0 +1,47 @@
+// Compute splat: a small sphere is ray cast here, pixel by pixel over its bounds, instead of
+// being rasterized; each hit keeps the nearest (distance, point) of its pixel with a 64-bit
+// atomicMax of the complemented key (!distance bits << 32 | !point index), so a cleared
+// (zero) buffer means "no hit" and the largest key is the nearest hit, ties to the lowest
+// index. The rays and the intersection are the imposter fragment stage's, so the result is
+// the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
+
+@group(0) @binding(6) var<storage, read_write> splat_keys: array<atomic<u64>>;
+
+// Ray casts `r` (analytic bounds, without margin) pixel by pixel when it spans at most
+// `params.up.w` pixels per side; false when it is too large (draw it instead).
+fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
+    let limit = params.up.w;
+    if limit <= 0.0 {
+        return false;
+    }
+    let size = image_size(params);
+    var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
+    var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
+    lo.y = max(lo.y, -FRAC_PI_2);
+    hi.y = min(hi.y, FRAC_PI_2);
+    let tl = position_of_angles_unwrapped(size, vec2<f32>(lo.x, hi.y));
+    let br = position_of_angles_unwrapped(size, vec2<f32>(hi.x, lo.y));
+    // Pixel centres (x + 0.5, y + 0.5) inside [tl, br], as the rasterizer samples them.
+    let fx0 = ceil(tl.x - 0.5);
+    let fx1 = floor(br.x - 0.5);
+    let fy0 = max(ceil(tl.y - 0.5), 0.0);
+    let fy1 = min(floor(br.y - 0.5), size.y - 1.0);
+    if fx1 - fx0 >= limit || fy1 - fy0 >= limit {
+        return false;
+    }
+    let w = i32(size.x);
+    let x0 = i32(fx0);
+    let x1 = i32(fx1);
+    for (var y = i32(fy0); y <= i32(fy1); y++) {
+        for (var x = x0; x <= x1; x++) {
+            let xw = ((x % w) + w) % w;
+            let a = angles_of_position(size, vec2<f32>(f32(xw) + 0.5, f32(y) + 0.5));
+            let t = intersect_sphere(ray(view, a.x, a.y), s, radius);
+            if t > 0.0 {
+                let key = (u64(~bitcast<u32>(t)) << 32u) | u64(~idx);
+                atomicMax(&splat_keys[u32(y * w + xw)], key);
+            }
+        }
+    }
+    return true;
+}
