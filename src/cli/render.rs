@@ -2,18 +2,17 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use glam::DVec3;
 
-use crate::io::{LoadOptions, Up, load_scene};
 use crate::output::{AnaglyphMethod, ImageFormat, Layout};
 use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
-use crate::{Rendered, output, placement, radius, raster, raytrace};
+use crate::{Rendered, output, raster, raytrace};
 
-use super::args::{RenderArgs, StereoArg, UpArg};
-use super::parse::RadiusChoice;
+use super::args::{RenderArgs, StereoArg};
+use super::prepare::{Prepared, prepare};
 use super::progress;
 
 /// Runs `omnicloud render`.
@@ -39,37 +38,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     crate::cli::render_guard::check_memory(args)?;
 
     let started = Instant::now();
-    let options = LoadOptions {
-        origin: args.camera,
-        up: match args.up {
-            UpArg::Z => Up::Z,
-            UpArg::Y => Up::Y,
-        },
-        ..LoadOptions::default()
-    };
-    let (mut scene, report) = load_scene(&args.file, &options)?;
-    if report.dropped_nonfinite > 0 {
-        say(format!(
-            "warning: dropped {} points with NaN/inf coordinates from {}",
-            report.dropped_nonfinite,
-            args.file.display()
-        ));
-    }
-    if scene.is_empty() {
-        bail!(
-            "{}: no point with finite coordinates to render",
-            args.file.display()
-        );
-    }
-    let camera_world = placement::center_on_camera(&mut scene, args.camera)
-        .context("could not place the camera automatically; pass --camera X,Y,Z")?;
-
-    match args.radius {
-        Some(RadiusChoice::Fixed(r)) => scene.radii = Radii::Uniform(r),
-        Some(RadiusChoice::Auto) => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
-        None if matches!(scene.radii, Radii::PerPoint(_)) => {}
-        None => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
-    }
+    let Prepared {
+        mut scene,
+        camera_world,
+    } = prepare(&args.file, args.camera, args.up, args.radius, say)?;
 
     let stereo = match args.stereo {
         StereoArg::None => Stereo::Mono,
