@@ -696,3 +696,23 @@ fn regression_ply_double_read_as_huge_stays_finite() {
     bytes.extend_from_slice(&body);
     exercise(dir.path(), "huge.ply", &bytes);
 }
+
+#[test]
+fn regression_absurd_header_bounds_do_not_become_the_origin() {
+    // A flipped exponent bit in simple.las's Max X (header offset 179) made the bounds
+    // 1e300 m wide: the data still lay inside them, their centre became the origin, and every
+    // position overflowed f32 to infinity.
+    let dir = tempdir();
+    let bytes = regression("simple.las", &[(179, &1e300f64.to_le_bytes())]);
+    exercise(dir.path(), "bounds.las", &bytes);
+    std::fs::write(dir.path().join("bounds.las"), &bytes).unwrap();
+    let (scene, _) = io::load_scene(&dir.path().join("bounds.las"), &LoadOptions::default())
+        .expect("the points themselves are fine");
+    assert_eq!(scene.len(), 1065);
+    assert!(
+        scene
+            .positions
+            .iter()
+            .all(|p| p.is_finite() && p.abs().max_element() < 1e4)
+    );
+}

@@ -95,6 +95,9 @@ enum ColorAccum {
 /// whose retyped properties read as 1e300), and no scan spans 1e30 m.
 const MAX_COORDINATE: f64 = 1e30;
 
+/// Widest header bounds (metres) trusted as the origin's source: larger than any real scan.
+const MAX_HEADER_EXTENT: f64 = 1e7;
+
 /// A point that survives loading: finite and within [`MAX_COORDINATE`].
 fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
@@ -161,8 +164,13 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
         dropped += kept.iter().filter(|k| !**k).count() as u64;
 
         let positions = positions.get_or_insert_with(|| {
-            // Header bounds are trusted for the origin only if the data agrees with them.
+            // Header bounds are trusted for the origin only if they are plausible (finite, no
+            // wider than any scan) and the data agrees with them: a corrupt header must not
+            // put the origin where positions overflow f32.
             let header_origin = header_centre
+                .filter(|(blo, bhi)| {
+                    usable(*blo) && usable(*bhi) && (*bhi - *blo).max_element() <= MAX_HEADER_EXTENT
+                })
                 .filter(|(blo, bhi)| {
                     let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
                     world
