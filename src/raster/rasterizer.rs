@@ -335,7 +335,9 @@ impl Rasterizer {
             .limits
             .max_buffer_size
             .min(ctx.limits.max_storage_buffer_binding_size)
-            .min(128 << 20);
+            // wgpu zero-fills a fresh buffer before its first use: with the splat few
+            // vertices are written, so a small buffer saves that fill every frame.
+            .min(if splat { 16 << 20 } else { 128 << 20 });
         let vertex_capacity = vertex_bytes_max / VERTEX_BYTES;
         let max_groups = ctx.limits.max_compute_workgroups_per_dimension as u64;
         let batch = (vertex_capacity / per_point)
