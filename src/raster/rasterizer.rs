@@ -331,11 +331,21 @@ impl Rasterizer {
         })?;
 
         let per_point = max_vertices_per_point(settings.proxy);
+        let largest_chunk = uploaded
+            .chunks
+            .iter()
+            .map(|c| c.len as u64)
+            .max()
+            .unwrap_or(1);
         let vertex_bytes_max = ctx
             .limits
             .max_buffer_size
             .min(ctx.limits.max_storage_buffer_binding_size)
-            .min(128 << 20);
+            .min(128 << 20)
+            // wgpu zero-fills a fresh buffer before its first use, every frame: no larger
+            // than the biggest chunk needs. (Smaller still would cost more batches, and each
+            // batch's submit and wait costs far more than the fill on lavapipe.)
+            .min(largest_chunk.max(1) * per_point * VERTEX_BYTES);
         let vertex_capacity = vertex_bytes_max / VERTEX_BYTES;
         let max_groups = ctx.limits.max_compute_workgroups_per_dimension as u64;
         let batch = (vertex_capacity / per_point)
