@@ -57,7 +57,10 @@ fn main() -> anyhow::Result<()> {
     let radius = auto_radius(&scene);
     let radius_s = t0.elapsed().as_secs_f64();
     scene.radii = Radii::Uniform(radius);
-    let camera = Camera::new(standing_camera(&scene), 0.0);
+    let camera = Camera::new(
+        omnicloud::placement::open_ground_camera_position(&scene),
+        0.0,
+    );
 
     let params = match preset.as_str() {
         "fastest" => BvhBuildParams::fastest_build(),
@@ -124,33 +127,6 @@ fn peak_memory() -> Option<String> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
     let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
     Some(line["VmHWM:".len()..].trim().to_string())
-}
-
-/// Camera position 1.7 m above open ground near the local zero: the nearest candidate of a
-/// 10 m grid whose ground (a low z percentile within 5 m) has no point 0.5 m above it.
-fn standing_camera(scene: &Scene) -> DVec3 {
-    let mut candidates: Vec<(f32, f32)> = (-8..=8)
-        .flat_map(|i| (-8..=8).map(move |j| (i as f32 * 10.0, j as f32 * 10.0)))
-        .collect();
-    candidates.sort_by(|a, b| a.0.hypot(a.1).total_cmp(&b.0.hypot(b.1)));
-    let (x, y, ground) = candidates
-        .iter()
-        .find_map(|&(x, y)| {
-            let mut near: Vec<f32> = scene
-                .positions
-                .iter()
-                .filter(|p| (p.x - x).hypot(p.y - y) < 5.0)
-                .map(|p| p.z)
-                .collect();
-            if near.len() < 10 {
-                return None;
-            }
-            near.sort_by(f32::total_cmp);
-            let ground = near[near.len() / 20];
-            (near[near.len() - 1] < ground + 0.5).then_some((x, y, ground))
-        })
-        .unwrap_or((0.0, 0.0, 0.0));
-    DVec3::new(x as f64, y as f64, ground as f64 + 1.7)
 }
 
 /// A LAS/LAZ/PLY file through the crate's loader (origin at the centre of the bounds).

@@ -14,6 +14,37 @@ const CELLS_PER_RADIUS: f32 = 4.0;
 /// the ground, high enough to ignore a few noise points below it.
 const CELL_PERCENTILE: f32 = 0.1;
 
+/// A camera position (local frame) [`EYE_HEIGHT`] above open ground near the local zero: the
+/// nearest point of a 10 m grid (out to 80 m) whose ground, a low height percentile within
+/// 5 m, has no point more than 0.5 m above it; the local zero at eye height when none is.
+///
+/// For benchmarks and tests that want an unobstructed view (no canopy or wall next to the
+/// eye), unlike [`auto_camera_position`], which stands exactly at the scan's centre.
+pub fn open_ground_camera_position(scene: &Scene) -> DVec3 {
+    let mut candidates: Vec<(f32, f32)> = (-8..=8)
+        .flat_map(|i| (-8..=8).map(move |j| (i as f32 * 10.0, j as f32 * 10.0)))
+        .collect();
+    candidates.sort_by(|a, b| a.0.hypot(a.1).total_cmp(&b.0.hypot(b.1)));
+    let (x, y, ground) = candidates
+        .iter()
+        .find_map(|&(x, y)| {
+            let mut near: Vec<f32> = scene
+                .positions
+                .iter()
+                .filter(|p| (p.x - x).hypot(p.y - y) < 5.0)
+                .map(|p| p.z)
+                .collect();
+            if near.len() < 10 {
+                return None;
+            }
+            near.sort_by(f32::total_cmp);
+            let ground = near[near.len() / 20];
+            (near[near.len() - 1] < ground + 0.5).then_some((x, y, ground))
+        })
+        .unwrap_or((0.0, 0.0, 0.0));
+    DVec3::new(x as f64, y as f64, ground as f64 + EYE_HEIGHT)
+}
+
 /// Moves the scene's frame onto the camera (DESIGN §1: the origin is the camera position)
 /// and returns the camera's world position: `camera` when given (file coordinates), else
 /// [`auto_camera_position`]. `None` for an empty scene without a given camera.

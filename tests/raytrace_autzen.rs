@@ -1,7 +1,6 @@
 //! The real sample (Autzen stadium, 110,000 points) rendered from 1.7 m above the ground
 //! near its centre: coverage and depth must be those of standing on a scanned field.
 
-use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::projection::Camera;
 use omnicloud::radius::{auto_radius, median_spacing};
@@ -24,30 +23,9 @@ fn autzen_from_standing_height_near_the_centre() {
     let spacing = median_spacing(&scene).unwrap();
     let radius = auto_radius(&scene);
     scene.radii = omnicloud::Radii::Uniform(radius);
-    // Open flat ground near the centre: the nearest candidate (10 m grid) with points around
-    // it and none higher than 0.5 m above its ground (a low percentile of z within 5 m).
-    let mut candidates: Vec<(f32, f32)> = (-8..=8)
-        .flat_map(|i| (-8..=8).map(move |j| (i as f32 * 10.0, j as f32 * 10.0)))
-        .collect();
-    candidates.sort_by(|a, b| (a.0.hypot(a.1)).total_cmp(&b.0.hypot(b.1)));
-    let (cx, cy, ground) = candidates
-        .iter()
-        .find_map(|&(x, y)| {
-            let mut near: Vec<f32> = scene
-                .positions
-                .iter()
-                .filter(|p| (p.x - x).hypot(p.y - y) < 5.0)
-                .map(|p| p.z)
-                .collect();
-            if near.len() < 10 {
-                return None;
-            }
-            near.sort_by(f32::total_cmp);
-            let ground = near[near.len() / 20];
-            (near[near.len() - 1] < ground + 0.5).then_some((x, y, ground))
-        })
-        .expect("open ground near the centre");
-    let camera = Camera::new(DVec3::new(cx as f64, cy as f64, ground as f64 + 1.7), 0.0);
+    // Open flat ground near the centre: at the exact centre the eye stands in a tree canopy.
+    let eye = omnicloud::placement::open_ground_camera_position(&scene);
+    let camera = Camera::new(eye, 0.0);
     let mut settings = RenderSettings::new(1024, camera);
     settings.color = ColorMode::Rgb;
     let Rendered::Mono(f) = render(&scene, &settings, &ProgressBar::hidden()).unwrap() else {
@@ -67,9 +45,10 @@ fn autzen_from_standing_height_near_the_centre() {
         depths[depths.len() - 1],
     );
     println!(
-        "autzen: spacing {spacing:.3} m, radius {radius:.3} m, camera at ({cx}, {cy}), ground {ground:.2} m, \
+        "autzen: spacing {spacing:.3} m, radius {radius:.3} m, camera at ({:.1}, {:.1}, {:.2}), \
          coverage {coverage:.3} (lower half {lower:.3}, upper half {upper:.3}), \
-         depth min {dmin:.2} median {dmed:.2} max {dmax:.1} m"
+         depth min {dmin:.2} median {dmed:.2} max {dmax:.1} m",
+        eye.x, eye.y, eye.z
     );
     assert!((0.3..2.0).contains(&spacing), "spacing {spacing}");
     assert!(f.depth.iter().all(|d| !d.is_nan()));
