@@ -4,6 +4,7 @@
 //! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
 //! `DESIGN.md`; [`projection`] implements them.
 
+pub mod bench;
 pub mod cli;
 pub mod compare;
 pub mod frame;
@@ -19,6 +20,7 @@ pub mod render;
 pub mod scene;
 pub mod stream;
 pub mod subsample;
+pub mod suite;
 
 pub use frame::{Frame, Rendered};
 pub use scene::{Attributes, Radii, Scene};

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use glam::DVec3;
 
+use crate::bench::BenchMode;
 use crate::projection::{OdsOffset, PoleMerge};
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
@@ -33,6 +34,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Compare a test render against a reference render (EXR files with a Z channel).
     Compare(CompareArgs),
+    /// Time every rasterizer mode against the ray-traced reference: tables and charts.
+    Bench(BenchArgs),
 }
 
 /// Mono panorama or omnidirectional stereo.
@@ -166,6 +169,57 @@ pub struct CompareArgs {
     /// Write an error heatmap with a legend.
     #[arg(long, value_name = "H.png")]
     pub heatmap: Option<PathBuf>,
+}
+
+/// Options of `omnicloud bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// A LAS, LAZ or PLY file to benchmark (or use --suite).
+    #[arg(required_unless_present = "suite", conflicts_with = "suite")]
+    pub scene: Option<PathBuf>,
+    /// Benchmark every scene of the stability suite in DIR (its suite.json).
+    #[arg(long, value_name = "DIR")]
+    pub suite: Option<PathBuf>,
+    /// Image width per eye [1920 for a scan; the manifest's width for --suite].
+    #[arg(long, value_parser = parse::width)]
+    pub width: Option<u32>,
+    /// Mono or ODS [none for a scan; the manifest's for --suite].
+    #[arg(long, value_enum)]
+    pub stereo: Option<StereoArg>,
+    /// Interocular distance in metres (with --stereo ods).
+    #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
+    pub ipd: f64,
+    /// Pole merging at both poles (with --stereo ods).
+    #[arg(long, default_value = "comfortable", value_parser = parse::pole_merge)]
+    pub pole_merge: PoleMerge,
+    /// Camera centre in file coordinates [automatic, as for render].
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
+    pub camera: Option<DVec3>,
+    /// Heading in degrees.
+    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
+    pub yaw: f64,
+    /// Sphere radius in metres or `auto` [per-point radii when present, else auto].
+    #[arg(long, value_parser = parse::radius)]
+    pub radius: Option<RadiusChoice>,
+    /// Up axis of the file.
+    #[arg(long, value_enum, default_value = "z")]
+    pub up: UpArg,
+    /// Modes to time, comma-separated, as PROXY+IMPOSTER (e.g. quad+sprite,bounds+raycast)
+    /// [all ten].
+    #[arg(long, value_delimiter = ',', value_parser = BenchMode::parse)]
+    pub modes: Option<Vec<BenchMode>>,
+    /// Frames rendered before timing starts.
+    #[arg(long, default_value = "2")]
+    pub warmup: usize,
+    /// Frames timed per mode (the report gives their median).
+    #[arg(long, default_value = "5", value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub frames: u64,
+    /// Output folder for bench.json, bench.csv, bench.md and the charts.
+    #[arg(long, default_value = "bench_out")]
+    pub out: PathBuf,
+    /// No progress bar or summary.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[cfg(test)]

@@ -1,7 +1,9 @@
 //! The command-line edge: parses arguments, runs a subcommand, reports errors with `anyhow`.
 
 pub mod args;
+mod bench;
 pub mod parse;
+mod prepare;
 mod progress;
 mod render;
 mod render_guard;
@@ -15,6 +17,7 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Info { file } => info(&file),
         Command::Render(args) => render::run(&args),
+        Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => {
             let report = crate::compare::compare_files(
                 &args.reference,

@@ -1,0 +1,429 @@
+//! What a benchmark measured, and its CSV and Markdown forms.
+
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+use crate::render::{Imposter, Proxy};
+
+use super::mode::{BenchMode, TABLE_IMPOSTERS, TABLE_PROXIES, imposter_name, proxy_heading};
+
+/// How frame times were measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TimingKind {
+    /// GPU timestamp queries around the expand and draw passes.
+    GpuTimestamps,
+    /// Wall clock from the first submission to the end of the GPU work (the adapter has no
+    /// timestamp queries).
+    WallClock,
+}
+
+impl TimingKind {
+    /// Words for tables and chart captions.
+    pub fn describe(self) -> &'static str {
+        match self {
+            TimingKind::GpuTimestamps => "GPU timestamp queries",
+            TimingKind::WallClock => "wall clock (no GPU timestamps on this adapter)",
+        }
+    }
+}
+
+/// Coverage mismatch in one 10° latitude band.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BandAccuracy {
+    /// Southern edge of the band, degrees.
+    pub lat_lo_deg: f64,
+    /// Northern edge of the band, degrees.
+    pub lat_hi_deg: f64,
+    /// Pixels in the band (all eyes).
+    pub pixels: u64,
+    /// Pixels in the band covered by exactly one of reference and test.
+    pub mismatched: u64,
+}
+
+impl BandAccuracy {
+    /// Mismatched fraction of the band's pixels.
+    pub fn fraction(&self) -> f64 {
+        if self.pixels == 0 {
+            0.0
+        } else {
+            self.mismatched as f64 / self.pixels as f64
+        }
+    }
+}
+
+/// Coverage mismatch in one image region (all eyes).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct RegionCount {
+    /// Pixels in the region.
+    pub pixels: u64,
+    /// Pixels in the region covered by exactly one of reference and test.
+    pub mismatched: u64,
+}
+
+impl RegionCount {
+    /// Mismatched fraction of the region's pixels.
+    pub fn fraction(&self) -> f64 {
+        if self.pixels == 0 {
+            0.0
+        } else {
+            self.mismatched as f64 / self.pixels as f64
+        }
+    }
+}
+
+/// Accuracy of one render against the ray-traced reference, over all eyes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Accuracy {
+    /// Fraction of all pixels covered by exactly one of reference and test.
+    pub coverage_mismatch: f64,
+    /// Intersection over union of the covered pixel sets (1 when both are empty).
+    pub iou: f64,
+    /// Median relative depth error `|d - d_ref| / d_ref` where both hit.
+    pub depth_rel_p50: f64,
+    /// 99th percentile of the relative depth error where both hit.
+    pub depth_rel_p99: f64,
+    /// Largest relative depth error where both hit.
+    pub depth_rel_max: f64,
+    /// Fraction of pixels hit by both whose RGB differs.
+    pub color_mismatch: f64,
+    /// PSNR of the colour over all pixels, dB (`None` when identical).
+    pub psnr_db: Option<f64>,
+    /// Coverage mismatch per 10° latitude band, south to north.
+    pub bands: Vec<BandAccuracy>,
+    /// Coverage mismatch in the seam columns (as `compare` defines them: the 1 % of columns
+    /// nearest each edge, at least one each side).
+    pub seam: RegionCount,
+}
+
+impl Accuracy {
+    /// Coverage mismatch in the worse of the two polar bands (|latitude| ≥ 80°).
+    pub fn polar_mismatch(&self) -> f64 {
+        let first = self.bands.first().map_or(0.0, BandAccuracy::fraction);
+        let last = self.bands.last().map_or(0.0, BandAccuracy::fraction);
+        first.max(last)
+    }
+}
+
+/// Counts the rasterizer reported for one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct ModeStats {
+    /// Points whose centre has no projection.
+    pub culled: u64,
+    /// Points that produced a proxy.
+    pub drawn: u64,
+    /// Proxies drawn as analytic bounds with forced ray casting.
+    pub special: u64,
+    /// Proxies drawn twice across the seam.
+    pub seam_copies: u64,
+    /// Vertices written.
+    pub vertices: u64,
+}
+
+/// One rasterizer mode's speed and accuracy.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModeResult {
+    /// The mode.
+    pub mode: BenchMode,
+    /// Median frame time over the timed frames, milliseconds.
+    pub frame_ms: f64,
+    /// Fastest timed frame, milliseconds.
+    pub frame_ms_min: f64,
+    /// Slowest timed frame, milliseconds.
+    pub frame_ms_max: f64,
+    /// `1000 / frame_ms`.
+    pub fps: f64,
+    /// How the frame times were measured.
+    pub timing: TimingKind,
+    /// Accuracy of the first timed frame against the reference.
+    pub accuracy: Accuracy,
+    /// Rasterizer counts.
+    pub stats: ModeStats,
+}
+
+/// The ray-traced reference render.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceRun {
+    /// Wall-clock seconds for one render, BVH build included.
+    pub seconds: f64,
+    /// Rayon threads it ran on.
+    pub threads: usize,
+}
+
+/// Everything one `bench` run measured.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BenchReport {
+    /// Scene name (file stem or suite entry).
+    pub scene: String,
+    /// Points in the scene.
+    pub points: usize,
+    /// Image width per eye.
+    pub width: u32,
+    /// Image height per eye.
+    pub height: u32,
+    /// `mono` or `ods`.
+    pub stereo: String,
+    /// The GPU adapter (name and backend).
+    pub adapter: String,
+    /// Frames rendered before timing, per mode.
+    pub warmup_frames: usize,
+    /// Frames timed per mode (the report gives their median).
+    pub timed_frames: usize,
+    /// The reference render.
+    pub reference: ReferenceRun,
+    /// One result per mode, in the configured order.
+    pub modes: Vec<ModeResult>,
+}
+
+impl BenchReport {
+    /// The result of `mode`, if it was measured.
+    pub fn mode(&self, mode: BenchMode) -> Option<&ModeResult> {
+        self.modes.iter().find(|m| m.mode == mode)
+    }
+
+    /// How this report's frame times were measured: GPU timestamps only when every mode had
+    /// them.
+    pub fn timing(&self) -> TimingKind {
+        if !self.modes.is_empty()
+            && self
+                .modes
+                .iter()
+                .all(|m| m.timing == TimingKind::GpuTimestamps)
+        {
+            TimingKind::GpuTimestamps
+        } else {
+            TimingKind::WallClock
+        }
+    }
+}
+
+/// The CSV header of [`csv_rows`].
+pub const CSV_HEADER: &str = "scene,points,width,height,stereo,mode,proxy,imposter,frame_ms_median,frame_ms_min,frame_ms_max,fps,timing,frames,coverage_mismatch,iou,depth_rel_p50,depth_rel_p99,depth_rel_max,color_mismatch,psnr_db,culled,drawn,special,seam_copies,vertices";
+
+/// One CSV line per mode (no header), fields as [`CSV_HEADER`] names them.
+pub fn csv_rows(report: &BenchReport) -> String {
+    let mut out = String::new();
+    for m in &report.modes {
+        let a = &m.accuracy;
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.2},{},{},{:.6e},{:.6},{:.3e},{:.3e},{:.3e},{:.6e},{},{},{},{},{},{}",
+            report.scene,
+            report.points,
+            report.width,
+            report.height,
+            report.stereo,
+            m.mode.label(),
+            m.mode.proxy_name(),
+            m.mode.imposter_name(),
+            m.frame_ms,
+            m.frame_ms_min,
+            m.frame_ms_max,
+            m.fps,
+            serde_json::to_value(m.timing)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_default(),
+            report.timed_frames,
+            a.coverage_mismatch,
+            a.iou,
+            a.depth_rel_p50,
+            a.depth_rel_p99,
+            a.depth_rel_max,
+            a.color_mismatch,
+            a.psnr_db
+                .map(|p| format!("{p:.2}"))
+                .unwrap_or_else(|| "inf".into()),
+            m.stats.culled,
+            m.stats.drawn,
+            m.stats.special,
+            m.stats.seam_copies,
+            m.stats.vertices,
+        );
+    }
+    out
+}
+
+/// The whole CSV file of one report.
+pub fn csv(report: &BenchReport) -> String {
+    format!("{CSV_HEADER}\n{}", csv_rows(report))
+}
+
+/// Percent with enough digits to tell small errors apart.
+pub fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction;
+    if p == 0.0 {
+        "0 %".to_string()
+    } else if p >= 1.0 {
+        format!("{p:.2} %")
+    } else {
+        format!("{p:.2e} %")
+    }
+}
+
+fn cell(report: &BenchReport, proxy: Proxy, imposter: Imposter) -> Option<&ModeResult> {
+    report.mode(BenchMode { proxy, imposter })
+}
+
+/// The report as Markdown: a header with the setup, then a table in the shape of the paper's
+/// Table 1 (columns: proxies; rows: per imposter, frame time, coverage error, depth error).
+pub fn markdown(report: &BenchReport) -> String {
+    let mut out = String::new();
+    let _ = writeln!(out, "## Benchmark: {}\n", report.scene);
+    let _ = writeln!(
+        out,
+        "- {} points, {}×{} per eye, {}\n- adapter: {}\n- frame time: median of {} frames after {} warm-up frames, measured by {}\n- reference: CPU ray tracer, {:.3} s on {} threads\n",
+        report.points,
+        report.width,
+        report.height,
+        report.stereo,
+        report.adapter,
+        report.timed_frames,
+        report.warmup_frames,
+        report.timing().describe(),
+        report.reference.seconds,
+        report.reference.threads,
+    );
+    let proxies: Vec<Proxy> = TABLE_PROXIES
+        .iter()
+        .copied()
+        .filter(|&p| {
+            TABLE_IMPOSTERS
+                .iter()
+                .any(|&i| cell(report, p, i).is_some())
+        })
+        .collect();
+    out.push_str("| imposter | metric |");
+    for &p in &proxies {
+        let _ = write!(out, " {} |", proxy_heading(p));
+    }
+    out.push_str("\n|---|---|");
+    for _ in &proxies {
+        out.push_str("---:|");
+    }
+    out.push('\n');
+    type Metric = (&'static str, fn(&ModeResult) -> String);
+    let metrics: [Metric; 4] = [
+        ("frame time (fps)", |m| {
+            format!("{:.2} ms ({:.0} fps)", m.frame_ms, m.fps)
+        }),
+        ("coverage mismatch", |m| {
+            percent(m.accuracy.coverage_mismatch)
+        }),
+        ("depth rel. err. p99", |m| {
+            format!("{:.1e}", m.accuracy.depth_rel_p99)
+        }),
+        ("colour mismatch", |m| percent(m.accuracy.color_mismatch)),
+    ];
+    for &imposter in &TABLE_IMPOSTERS {
+        if !proxies.iter().any(|&p| cell(report, p, imposter).is_some()) {
+            continue;
+        }
+        for (name, f) in &metrics {
+            let _ = write!(out, "| {} | {name} |", imposter_name(imposter));
+            for &p in &proxies {
+                let text = cell(report, p, imposter)
+                    .map(f)
+                    .unwrap_or_else(|| "–".into());
+                let _ = write!(out, " {text} |");
+            }
+            out.push('\n');
+        }
+    }
+    out.push_str(
+        "\nCoverage mismatch: share of pixels that exactly one of reference and test covers. \
+         Depth error: |d − d_ref| / d_ref where both hit. Colour mismatch: share of pixels hit \
+         by both whose unlit colour differs.\n",
+    );
+    out
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A report with made-up numbers for every mode, for output tests.
+    pub(crate) fn sample_report() -> BenchReport {
+        let modes = BenchMode::all()
+            .into_iter()
+            .enumerate()
+            .map(|(k, mode)| ModeResult {
+                mode,
+                frame_ms: 2.0 + k as f64,
+                frame_ms_min: 1.5 + k as f64,
+                frame_ms_max: 3.0 + k as f64,
+                fps: 1000.0 / (2.0 + k as f64),
+                timing: TimingKind::WallClock,
+                accuracy: Accuracy {
+                    coverage_mismatch: 0.05 / (k as f64 + 1.0).powi(2),
+                    iou: 0.9,
+                    depth_rel_p50: 1e-5,
+                    depth_rel_p99: 1e-3,
+                    depth_rel_max: 1e-2,
+                    color_mismatch: 0.0,
+                    psnr_db: Some(30.0),
+                    bands: (0..18)
+                        .map(|b| BandAccuracy {
+                            lat_lo_deg: -90.0 + 10.0 * b as f64,
+                            lat_hi_deg: -80.0 + 10.0 * b as f64,
+                            pixels: 1000,
+                            mismatched: if b == 0 || b == 17 {
+                                50 / (k as u64 + 1)
+                            } else {
+                                1
+                            },
+                        })
+                        .collect(),
+                    seam: RegionCount {
+                        pixels: 100,
+                        mismatched: 10 - k as u64,
+                    },
+                },
+                stats: ModeStats::default(),
+            })
+            .collect();
+        BenchReport {
+            scene: "sample".into(),
+            points: 100,
+            width: 64,
+            height: 32,
+            stereo: "mono".into(),
+            adapter: "test adapter".into(),
+            warmup_frames: 1,
+            timed_frames: 3,
+            reference: ReferenceRun {
+                seconds: 0.5,
+                threads: 2,
+            },
+            modes,
+        }
+    }
+
+    #[test]
+    fn csv_has_a_row_per_mode_with_every_column() {
+        let text = csv(&sample_report());
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 11);
+        let columns = CSV_HEADER.split(',').count();
+        for l in &lines {
+            assert_eq!(l.split(',').count(), columns, "{l}");
+        }
+        assert!(lines[1].contains(",quad+sprite,quad,sprite,2.0000,"));
+        assert!(lines[1].contains(",wall-clock,3,"));
+    }
+
+    #[test]
+    fn markdown_table_has_paper_columns_and_a_row_per_metric() {
+        let md = markdown(&sample_report());
+        assert!(md.contains(
+            "| imposter | metric | No Tess. | Static (4) | Static (16) | Dynamic | Bounds (ours) |"
+        ));
+        let rows = md
+            .lines()
+            .filter(|l| l.starts_with("| sprite") || l.starts_with("| raycast"));
+        assert_eq!(rows.count(), 8);
+        assert!(md.contains("| sprite | frame time (fps) | 2.00 ms (500 fps) |"));
+        assert!(md.contains("wall clock"));
+    }
+}

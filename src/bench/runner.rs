@@ -1,0 +1,168 @@
+//! Runs one benchmark: the ray-traced reference, then every rasterizer mode, timed and
+//! compared.
+
+use std::time::Instant;
+
+use indicatif::ProgressBar;
+
+use crate::projection::Stereo;
+use crate::raster::{FrameTiming, Rasterizer, TimingSource};
+use crate::raytrace;
+use crate::render::RenderSettings;
+use crate::scene::Scene;
+
+use super::BenchError;
+use super::accuracy::measure;
+use super::config::BenchConfig;
+use super::report::{BenchReport, ModeResult, ModeStats, ReferenceRun, TimingKind};
+
+/// The settings a benchmark renders with: `base` with the config's width and stereo overrides.
+pub fn bench_settings(base: &RenderSettings, config: &BenchConfig) -> RenderSettings {
+    let mut s = *base;
+    if let Some(w) = config.width {
+        s.image = crate::projection::Equirect::from_width(w);
+    }
+    if let Some(stereo) = config.stereo {
+        s.stereo = stereo;
+    }
+    s
+}
+
+fn stereo_name(s: &Stereo) -> &'static str {
+    match s {
+        Stereo::Mono => "mono",
+        Stereo::Ods { .. } => "ods",
+    }
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        0.0
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn timing_kind(t: &FrameTiming) -> TimingKind {
+    match t.source {
+        TimingSource::GpuTimestamps => TimingKind::GpuTimestamps,
+        TimingSource::WallClock => TimingKind::WallClock,
+    }
+}
+
+/// Benchmarks `scene` (named `name` in the outputs) with a new rasterizer; see
+/// [`run_bench_with`].
+pub fn run_bench(
+    name: &str,
+    scene: &Scene,
+    base: &RenderSettings,
+    config: &BenchConfig,
+    progress: &ProgressBar,
+) -> Result<BenchReport, BenchError> {
+    let rasterizer = Rasterizer::new()?;
+    run_bench_with(&rasterizer, name, scene, base, config, progress)
+}
+
+/// Benchmarks `scene` on `rasterizer`: one timed ray-traced reference render, then for each
+/// mode of `config` the warm-up frames and the timed frames (scene uploaded once), the median
+/// frame time, and the accuracy of the first timed frame against the reference.
+///
+/// `progress` advances once for the reference and once per rasterizer frame.
+pub fn run_bench_with(
+    rasterizer: &Rasterizer,
+    name: &str,
+    scene: &Scene,
+    base: &RenderSettings,
+    config: &BenchConfig,
+    progress: &ProgressBar,
+) -> Result<BenchReport, BenchError> {
+    if config.timed_frames == 0 {
+        return Err(BenchError::Config(
+            "at least one timed frame is needed".into(),
+        ));
+    }
+    let settings = bench_settings(base, config);
+    let frames_per_mode = config.warmup_frames + config.timed_frames;
+    progress.set_length(1 + (config.modes.len() * frames_per_mode) as u64);
+    progress.set_position(0);
+    progress.set_message(format!("{name}: ray-traced reference"));
+    let hidden = ProgressBar::hidden();
+
+    let start = Instant::now();
+    let reference = raytrace::render(scene, &settings, &hidden)?;
+    let reference_run = ReferenceRun {
+        seconds: start.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    };
+    progress.inc(1);
+
+    let uploaded = rasterizer.upload(scene, &settings)?;
+    let mut modes = Vec::with_capacity(config.modes.len());
+    for &mode in &config.modes {
+        progress.set_message(format!("{name}: {}", mode.label()));
+        let mut s = settings;
+        s.proxy = mode.proxy;
+        s.imposter = mode.imposter;
+        for _ in 0..config.warmup_frames {
+            rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+            progress.inc(1);
+        }
+        let mut times = Vec::with_capacity(config.timed_frames);
+        let mut first = None;
+        let mut kind = TimingKind::GpuTimestamps;
+        for _ in 0..config.timed_frames {
+            let (rendered, stats, timing) = rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+            times.push(timing.seconds * 1e3);
+            if timing_kind(&timing) == TimingKind::WallClock {
+                kind = TimingKind::WallClock;
+            }
+            first.get_or_insert((rendered, stats));
+            progress.inc(1);
+        }
+        let (rendered, stats) = first.expect("timed_frames > 0");
+        let frame_ms = median(times.clone());
+        modes.push(ModeResult {
+            mode,
+            frame_ms,
+            frame_ms_min: times.iter().copied().fold(f64::INFINITY, f64::min),
+            frame_ms_max: times.iter().copied().fold(0.0, f64::max),
+            fps: if frame_ms > 0.0 { 1e3 / frame_ms } else { 0.0 },
+            timing: kind,
+            accuracy: measure(&reference, &rendered)?,
+            stats: ModeStats {
+                culled: stats.culled,
+                drawn: stats.drawn,
+                special: stats.special,
+                seam_copies: stats.seam_copies,
+                vertices: stats.vertices,
+            },
+        });
+    }
+    Ok(BenchReport {
+        scene: name.to_string(),
+        points: scene.len(),
+        width: settings.image.width,
+        height: settings.image.height,
+        stereo: stereo_name(&settings.stereo).to_string(),
+        adapter: rasterizer.adapter_name().to_string(),
+        warmup_frames: config.warmup_frames,
+        timed_frames: config.timed_frames,
+        reference: reference_run,
+        modes,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(vec![4.0, 1.0, 2.0, 3.0]), 2.5);
+    }
+}

@@ -1,0 +1,97 @@
+//! `omnicloud bench`: one scan, or the stability suite, through every rasterizer mode.
+
+use anyhow::Result;
+use glam::DVec3;
+
+use crate::bench::{self, BenchConfig};
+use crate::projection::{Camera, OdsOffset, PoleMerging, Stereo};
+use crate::render::{ColorMode, RenderSettings};
+
+use super::args::{BenchArgs, StereoArg};
+use super::prepare::prepare;
+use super::progress;
+
+/// Width used for a scan when `--width` is not given.
+const DEFAULT_WIDTH: u32 = 1920;
+
+/// Runs `omnicloud bench`.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let config = BenchConfig {
+        width: args.width,
+        stereo: args.stereo.map(|s| match s {
+            StereoArg::None => Stereo::Mono,
+            StereoArg::Ods => Stereo::Ods {
+                ipd: args.ipd,
+                merging: PoleMerging::both(args.pole_merge),
+                offset: OdsOffset::Exact,
+            },
+        }),
+        modes: args.modes.clone().unwrap_or_else(bench::BenchMode::all),
+        warmup_frames: args.warmup,
+        timed_frames: args.frames as usize,
+    };
+    let pb = progress::bar(args.quiet, 0, "benchmark");
+    let written = if let Some(dir) = &args.suite {
+        let report = bench::run_suite(dir, &config, &pb)?;
+        pb.finish_and_clear();
+        let files = bench::write_suite_outputs(&report, &args.out)?;
+        vec![
+            files.json,
+            files.csv,
+            files.markdown,
+            files.bands_png,
+            files.bands_svg,
+        ]
+    } else {
+        let file = args
+            .scene
+            .as_ref()
+            .expect("clap requires a scene without --suite");
+        let say = |m: String| {
+            if !args.quiet {
+                eprintln!("{m}");
+            }
+        };
+        let prepared = prepare(file, args.camera, args.up, args.radius, say)?;
+        let c = prepared.camera_world;
+        say(format!(
+            "{}: {} points, camera at ({:.3}, {:.3}, {:.3})",
+            file.display(),
+            prepared.scene.len(),
+            c.x,
+            c.y,
+            c.z
+        ));
+        let mut base = RenderSettings::new(
+            args.width.unwrap_or(DEFAULT_WIDTH),
+            Camera::new(DVec3::ZERO, args.yaw),
+        );
+        base.color = ColorMode::Auto;
+        let name = file
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into());
+        let report = bench::run_bench(&name, &prepared.scene, &base, &config, &pb)?;
+        pb.finish_and_clear();
+        let files = bench::write_outputs(&report, &args.out)?;
+        vec![
+            files.json,
+            files.csv,
+            files.markdown,
+            files.chart_png,
+            files.chart_svg,
+        ]
+    };
+    if !args.quiet {
+        if let Some(md) = written
+            .iter()
+            .find(|p| p.extension().is_some_and(|e| e == "md"))
+        {
+            println!("{}", std::fs::read_to_string(md)?);
+        }
+        for p in &written {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}

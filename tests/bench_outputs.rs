@@ -1,0 +1,83 @@
+//! `bench` on a small scene: every mode measured, all four outputs written, and the chart is
+//! a real image with one marker per mode.
+
+mod bench_common;
+
+use omnicloud::bench::{
+    BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
+};
+use omnicloud::suite::scenes;
+
+#[test]
+fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
+    let Some(raster) = bench_common::rasterizer_or_skip("bench_outputs") else {
+        return;
+    };
+    let suite_scene = scenes::seam();
+    let entry = omnicloud::suite::manifest_of(std::slice::from_ref(&suite_scene)).scenes[0].clone();
+    let scene = suite_scene.to_scene();
+    let base = entry.settings(scene.origin).unwrap();
+    let config = BenchConfig {
+        width: Some(128),
+        ..BenchConfig::quick()
+    };
+    let pb = indicatif::ProgressBar::hidden();
+    let report = run_bench_with(&raster, "seam", &scene, &base, &config, &pb).unwrap();
+    assert_eq!(report.modes.len(), 10);
+    assert_eq!((report.width, report.height), (128, 64));
+    assert_eq!(
+        pb.position(),
+        1 + 10 * 4,
+        "one tick for the reference, one per frame"
+    );
+    for m in &report.modes {
+        assert!(m.frame_ms > 0.0 && m.frame_ms_min <= m.frame_ms && m.frame_ms <= m.frame_ms_max);
+        assert!((0.0..=1.0).contains(&m.accuracy.coverage_mismatch));
+        assert_eq!(
+            m.accuracy.bands.iter().map(|b| b.pixels).sum::<u64>(),
+            128 * 64
+        );
+    }
+
+    let dir = tempfile::tempdir().unwrap();
+    let files = write_outputs(&report, dir.path()).unwrap();
+    let back: BenchReport =
+        serde_json::from_str(&std::fs::read_to_string(&files.json).unwrap()).unwrap();
+    assert_eq!(back.modes.len(), 10);
+    assert_eq!(back.modes[3].mode, report.modes[3].mode);
+
+    let csv = std::fs::read_to_string(&files.csv).unwrap();
+    assert_eq!(csv.lines().count(), 11);
+    for mode in BenchMode::all() {
+        assert!(
+            csv.contains(&format!(",{},", mode.label())),
+            "{}",
+            mode.label()
+        );
+    }
+
+    let md = std::fs::read_to_string(&files.markdown).unwrap();
+    assert!(md.contains("| No Tess. | Static (4) | Static (16) | Dynamic | Bounds (ours) |"));
+    assert!(md.contains(&report.adapter));
+    assert!(md.contains("median of 3 frames"));
+
+    assert_eq!(files.chart.markers, 10);
+    assert!(files.chart.pareto >= 1 && files.chart.pareto <= 10);
+    let png = image::open(&files.chart_png).unwrap().to_rgb8();
+    assert_eq!(png.dimensions(), CHART_SIZE);
+    // Count the marker colours: sprite circles and raycast triangles are drawn filled in
+    // their own colours, so both must be present in quantity.
+    let count = |c: [u8; 3]| png.pixels().filter(|p| p.0 == c).count();
+    assert!(count([214, 96, 77]) > 5 * 60, "sprite markers");
+    assert!(count([33, 102, 172]) > 5 * 40, "raycast markers");
+    let svg = std::fs::read_to_string(&files.chart_svg).unwrap();
+    assert!(svg.starts_with("<svg"));
+    // One filled circle per sprite mode and one triangle per raycast mode, plus one of each
+    // in the legend; each marker carries its proxy name as a label.
+    assert_eq!(svg.matches("<circle").count(), 5 + 1);
+    assert_eq!(svg.matches("<polygon").count(), 5 + 1);
+    for mode in BenchMode::all() {
+        let label = format!(">\n{}\n</text>", mode.proxy_name());
+        assert_eq!(svg.matches(&label).count(), 2, "{}", mode.proxy_name());
+    }
+}
