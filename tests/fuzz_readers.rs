@@ -6,7 +6,7 @@
 //! a deadline) and never ask for absurd memory (a capped global allocator records the largest
 //! single request; inputs are below 1 MB, so no request may reach [`LARGEST_ALLOWED`]).
 //!
-//! `PROPTEST_CASES` scales the random parts (default 48 per property, sized for CI).
+//! `PROPTEST_CASES` scales the random parts (proptest default: 256 cases per property).
 
 use omnicloud::io::{self, LoadError, LoadOptions};
 use proptest::prelude::*;

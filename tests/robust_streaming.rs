@@ -10,7 +10,13 @@ use omnicloud::projection::{Camera, Equirect, equirect};
 use omnicloud::stream::{ChunkSink, StreamOptions, stream_file};
 use std::path::Path;
 
-const POINTS: u64 = 20_000_000;
+/// Points written; `OMNICLOUD_STREAM_POINTS` overrides it for manual runs (e.g. 50000000).
+fn points() -> u64 {
+    std::env::var("OMNICLOUD_STREAM_POINTS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000_000)
+}
 const WIDTH: u32 = 512;
 
 /// A 20 M-point LAS (format 0, 20 bytes a point): a 2 km x 2 km ground grid with a slight
@@ -34,9 +40,9 @@ fn write_las(path: &Path) {
     };
     let header = builder.into_header().unwrap();
     let mut writer = las::Writer::from_path(path, header).unwrap();
-    let side = (POINTS as f64).sqrt().ceil() as u64;
+    let side = (points() as f64).sqrt().ceil() as u64;
     let step = 2000.0 / side as f64;
-    for i in 0..POINTS {
+    for i in 0..points() {
         let (gx, gy) = ((i % side) as f64, (i / side) as f64);
         let (x, y) = (gx * step, gy * step);
         writer
@@ -114,8 +120,8 @@ fn twenty_million_points_stream_in_bounded_memory() {
         report.camera,
         report.radius
     );
-    assert_eq!(report.read, POINTS);
-    assert_eq!(sink.points, POINTS);
+    assert_eq!(report.read, points());
+    assert_eq!(sink.points, points());
     assert_eq!(report.dropped, 0);
     // Loading would hold 20 M x 24 bytes = 480 MB of scene alone; the stream holds at most
     // the chunks in flight (1 M points each: decoded f64 chunk ~40 MB, its scene ~20 MB, two
