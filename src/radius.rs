@@ -52,7 +52,13 @@ pub fn median_spacing(scene: &Scene) -> Option<f32> {
 /// Half the median spacing ([`median_spacing`]), the default sphere radius; 0.05 m when the
 /// spacing cannot be estimated (a lone point, or all points equal).
 pub fn auto_radius(scene: &Scene) -> f32 {
-    median_spacing(scene).map_or(FALLBACK_RADIUS, |s| 0.5 * s)
+    radius_for_spacing(median_spacing(scene))
+}
+
+/// The auto radius for an already measured [`median_spacing`]: half of it, or
+/// [`FALLBACK_RADIUS`] when there is none.
+pub fn radius_for_spacing(spacing: Option<f32>) -> f32 {
+    spacing.map_or(FALLBACK_RADIUS, |s| 0.5 * s)
 }
 
 /// Radius used when no spacing can be measured.

@@ -55,7 +55,7 @@ fn info(file: &std::path::Path) -> Result<()> {
     match crate::radius::median_spacing(&scene) {
         Some(s) => println!(
             "spacing:       {s:.4} m median nearest-neighbour (auto radius {:.4} m)",
-            crate::radius::auto_radius(&scene)
+            crate::radius::radius_for_spacing(Some(s))
         ),
         None => println!("spacing:       n/a (fewer than two distinct points)"),
     }

@@ -54,9 +54,10 @@ pub fn prepare(
         .context("could not place the camera automatically; pass --camera X,Y,Z")?;
     match radius_choice {
         Some(RadiusChoice::Fixed(r)) => scene.radii = Radii::Uniform(r),
-        Some(RadiusChoice::Auto) => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
         None if matches!(scene.radii, Radii::PerPoint(_)) => {}
-        None => scene.radii = Radii::Uniform(radius::auto_radius(&scene)),
+        Some(RadiusChoice::Auto) | None => {
+            scene.radii = Radii::Uniform(radius::auto_radius(&scene))
+        }
     }
     Ok(Prepared {
         scene,
