@@ -33,10 +33,83 @@ pub struct MissingAttribute {
     pub others: String,
 }
 
-/// Base colour of every point under `mode`, in point order.
-pub fn base_colors(scene: &Scene, mode: ColorMode) -> Result<Vec<[u8; 3]>, MissingAttribute> {
-    let a = &scene.attributes;
-    let missing = |attribute| {
+/// A colour mode with its value ranges fixed, so that chunks of one cloud streamed separately
+/// are coloured alike: intensity and elevation stretch between percentiles, which must come
+/// from the whole cloud (or a sample of it), not from each chunk.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorRule {
+    /// The mode, resolved (`Auto` became `Rgb` or `Elevation`).
+    pub mode: ColorMode,
+    /// 1st and 99th percentiles of intensity or height (`z` relative to the scene origin) for
+    /// `Intensity` and `Elevation`; unused otherwise.
+    pub range: (f32, f32),
+}
+
+impl ColorRule {
+    /// Resolves `mode` on `scene` (or a representative sample of the cloud): checks that the
+    /// attribute exists and measures the percentile range.
+    pub fn for_scene(scene: &Scene, mode: ColorMode) -> Result<Self, MissingAttribute> {
+        let a = &scene.attributes;
+        let missing = |attribute| MissingAttribute::in_scene(scene, attribute);
+        let mode = match mode {
+            ColorMode::Auto if a.rgb.is_some() => ColorMode::Rgb,
+            ColorMode::Auto => ColorMode::Elevation,
+            m => m,
+        };
+        let range = match mode {
+            ColorMode::Rgb if a.rgb.is_none() => return Err(missing("RGB colour")),
+            ColorMode::Classification if a.classification.is_none() => {
+                return Err(missing("classification"));
+            }
+            ColorMode::Intensity => {
+                let values = a.intensity.as_ref().ok_or_else(|| missing("intensity"))?;
+                percentile_range(values.iter().map(|&v| v as f32))
+            }
+            ColorMode::Elevation => percentile_range(scene.positions.iter().map(|p| p.z)),
+            _ => (0.0, 0.0),
+        };
+        Ok(ColorRule { mode, range })
+    }
+
+    /// Base colour of every point of `scene` (which must share the origin of the scene the
+    /// rule was measured on, for elevation), in point order.
+    pub fn colors(&self, scene: &Scene) -> Result<Vec<[u8; 3]>, MissingAttribute> {
+        let (lo, hi) = self.range;
+        let a = &scene.attributes;
+        let missing = |attribute| MissingAttribute::in_scene(scene, attribute);
+        Ok(match self.mode {
+            ColorMode::Rgb => match &a.rgb {
+                Some(rgb) => rgb.clone(),
+                None => return Err(missing("RGB colour")),
+            },
+            ColorMode::Flat => vec![FLAT_COLOR; scene.len()],
+            ColorMode::Intensity => match &a.intensity {
+                Some(values) => values
+                    .iter()
+                    .map(|&v| {
+                        let g = (stretch(v as f32, lo, hi) * 255.0).round() as u8;
+                        [g, g, g]
+                    })
+                    .collect(),
+                None => return Err(missing("intensity")),
+            },
+            ColorMode::Classification => match &a.classification {
+                Some(c) => c.iter().map(|&c| asprs_color(c)).collect(),
+                None => return Err(missing("classification")),
+            },
+            ColorMode::Elevation | ColorMode::Auto => scene
+                .positions
+                .iter()
+                .map(|p| viridis(stretch(p.z, lo, hi)))
+                .collect(),
+        })
+    }
+}
+
+impl MissingAttribute {
+    /// `attribute` is missing from `scene`; the message lists the modes that would work.
+    fn in_scene(scene: &Scene, attribute: &'static str) -> Self {
+        let a = &scene.attributes;
         let mut others = String::new();
         for (name, present) in [
             ("rgb", a.rgb.is_some()),
@@ -49,39 +122,12 @@ pub fn base_colors(scene: &Scene, mode: ColorMode) -> Result<Vec<[u8; 3]>, Missi
             }
         }
         MissingAttribute { attribute, others }
-    };
-    Ok(match mode {
-        ColorMode::Auto if a.rgb.is_some() => return base_colors(scene, ColorMode::Rgb),
-        ColorMode::Auto => return base_colors(scene, ColorMode::Elevation),
-        ColorMode::Rgb => a.rgb.clone().ok_or_else(|| missing("RGB colour"))?,
-        ColorMode::Flat => vec![FLAT_COLOR; scene.len()],
-        ColorMode::Intensity => {
-            let values = a.intensity.as_ref().ok_or_else(|| missing("intensity"))?;
-            let (lo, hi) = percentile_range(values.iter().map(|&v| v as f32));
-            values
-                .iter()
-                .map(|&v| {
-                    let g = (stretch(v as f32, lo, hi) * 255.0).round() as u8;
-                    [g, g, g]
-                })
-                .collect()
-        }
-        ColorMode::Classification => a
-            .classification
-            .as_ref()
-            .ok_or_else(|| missing("classification"))?
-            .iter()
-            .map(|&c| asprs_color(c))
-            .collect(),
-        ColorMode::Elevation => {
-            let (lo, hi) = percentile_range(scene.positions.iter().map(|p| p.z));
-            scene
-                .positions
-                .iter()
-                .map(|p| viridis(stretch(p.z, lo, hi)))
-                .collect()
-        }
-    })
+    }
+}
+
+/// Base colour of every point under `mode`, in point order, with ranges from `scene` itself.
+pub fn base_colors(scene: &Scene, mode: ColorMode) -> Result<Vec<[u8; 3]>, MissingAttribute> {
+    ColorRule::for_scene(scene, mode)?.colors(scene)
 }
 
 fn stretch(v: f32, lo: f32, hi: f32) -> f32 {
@@ -163,6 +209,22 @@ mod tests {
         assert_eq!(c[0], viridis(0.0));
         assert_eq!(c[99], viridis(1.0));
         assert_eq!(base_colors(&scene, ColorMode::Auto).unwrap(), c);
+    }
+
+    #[test]
+    fn a_rule_from_one_chunk_colours_another_alike() {
+        let all: Vec<Vec3> = (0..100).map(|k| Vec3::new(0.0, 0.0, k as f32)).collect();
+        let whole = Scene::new(DVec3::ZERO, all.clone(), 0.1);
+        let rule = ColorRule::for_scene(&whole, ColorMode::Auto).unwrap();
+        assert_eq!(rule.mode, ColorMode::Elevation);
+        let upper = Scene::new(DVec3::ZERO, all[50..].to_vec(), 0.1);
+        let full = base_colors(&whole, ColorMode::Elevation).unwrap();
+        assert_eq!(rule.colors(&upper).unwrap(), full[50..].to_vec());
+        // Ranged per chunk, the upper half alone would start at the bottom of the ramp.
+        assert_ne!(
+            base_colors(&upper, ColorMode::Elevation).unwrap(),
+            full[50..].to_vec()
+        );
     }
 
     #[test]

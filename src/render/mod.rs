@@ -4,6 +4,6 @@ pub mod color;
 pub mod settings;
 pub mod shading;
 
-pub use color::{ColorMode, base_colors};
+pub use color::{ColorMode, ColorRule, base_colors};
 pub use settings::{Imposter, Proxy, RenderSettings, RendererKind};
 pub use shading::Shading;
