@@ -85,6 +85,33 @@ impl Scene {
         self.origin = new_origin;
     }
 
+    /// The points in `range` (clamped to the scene) as a scene of their own, same origin.
+    pub fn range(&self, range: std::ops::Range<usize>) -> Scene {
+        let end = range.end.min(self.len());
+        let r = range.start.min(end)..end;
+        Scene {
+            origin: self.origin,
+            positions: self.positions[r.clone()].to_vec(),
+            radii: match &self.radii {
+                Radii::Uniform(x) => Radii::Uniform(*x),
+                Radii::PerPoint(v) => Radii::PerPoint(v[r.clone()].to_vec()),
+            },
+            attributes: Attributes {
+                rgb: self.attributes.rgb.as_ref().map(|v| v[r.clone()].to_vec()),
+                intensity: self
+                    .attributes
+                    .intensity
+                    .as_ref()
+                    .map(|v| v[r.clone()].to_vec()),
+                classification: self
+                    .attributes
+                    .classification
+                    .as_ref()
+                    .map(|v| v[r.clone()].to_vec()),
+            },
+        }
+    }
+
     /// Axis-aligned bounds of the point centres in the local frame, or `None` when empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let first = *self.positions.first()?;

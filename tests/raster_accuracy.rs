@@ -8,7 +8,7 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::Rendered;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
-use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, base_colors};
+use omnicloud::render::{ColorMode, ColorRule, Imposter, Proxy, RenderSettings, base_colors};
 use raster_common::*;
 
 const WIDTH: u32 = 512;
@@ -168,4 +168,33 @@ fn compute_splat_and_drawing_give_the_same_frames() {
             .count();
         assert_eq!(differ, 0, "{differ} pixels differ between splat and draw");
     }
+}
+
+#[test]
+fn pieces_drawn_into_one_chunked_frame_give_the_same_frames() {
+    let Some(raster) = rasterizer() else {
+        return;
+    };
+    let scene = stress_scene(1500);
+    let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+    let (whole, one) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+    // Uneven pieces, each split again by a GPU chunk of 211 points.
+    let rule = ColorRule::for_scene(&scene, s.color).unwrap();
+    let mut frame = raster.begin_chunked(&s, rule, 211).unwrap();
+    let mut start = 0;
+    for len in [1, 500, 7, 211, 212, 1000] {
+        let end = (start + len).min(scene.len());
+        frame.draw(&scene.range(start..end)).unwrap();
+        start = end;
+    }
+    assert_eq!(frame.points(), scene.len() as u64);
+    let (pieces, many, _) = frame.finish().unwrap();
+    assert_eq!(one.drawn, many.drawn);
+    assert!(many.batches > one.batches, "{many}");
+    assert!(whole == pieces, "frames drawn in pieces differ");
+    // And they are not trivially equal: something was drawn.
+    let Rendered::Stereo { left, .. } = &pieces else {
+        panic!("ODS renders two eyes")
+    };
+    assert!(left.color.iter().filter(|c| c[3] == 255).count() > 10_000);
 }
