@@ -85,6 +85,99 @@ pub fn raytrace_estimate_for(
     raytrace_estimate(info.point_count, kept, width, eyes)
 }
 
+/// Resident bytes per pixel and eye of a streamed raster render. On a software adapter the
+/// GPU's textures and buffers are host memory, so they count: colour 4 + distance 4 + depth 4
+/// textures, splat keys 8, read-back staging 8, the frame read back 8, and the output
+/// conversion (top-bottom copy and encoder buffers) ~12.
+pub const RASTER_BYTES_PER_PIXEL: u64 = 48;
+
+/// Resident bytes per point of the stream's chunk size: decoded chunks (~40 bytes a point as
+/// f64 positions and raw attributes) waiting in the channel, being decoded and being drawn
+/// (4 chunks), the chunk as a scene 20, GPU point and colour buffers with their upload
+/// staging 40, and the proxies' vertex buffer (12 vertices of 16 bytes, at most 128 MiB).
+pub const RASTER_BYTES_PER_CHUNK_POINT: u64 = 4 * 40 + 20 + 40;
+
+/// Bytes of the rasterizer's vertex buffer for chunks of `chunk_points` (bounds proxies).
+fn vertex_buffer_bytes(chunk_points: u64) -> u64 {
+    (chunk_points * 12 * 16).min(128 << 20)
+}
+
+/// Estimated peak of `render --renderer raster` streaming in chunks of `chunk_points` at
+/// `width x width/2` per eye for `eyes` eyes. It does not depend on the file's size.
+pub fn raster_stream_estimate(width: u32, eyes: u32, chunk_points: u64) -> MemoryEstimate {
+    let pixels = u64::from(width) * u64::from(width / 2) * u64::from(eyes);
+    MemoryEstimate {
+        points: chunk_points,
+        points_bytes: chunk_points * RASTER_BYTES_PER_CHUNK_POINT
+            + vertex_buffer_bytes(chunk_points),
+        image_bytes: pixels * RASTER_BYTES_PER_PIXEL,
+        base_bytes: BASE_BYTES,
+    }
+}
+
+/// Smallest chunk worth streaming: below it, per-batch GPU overhead dominates.
+pub const MIN_CHUNK_POINTS: usize = 1 << 14;
+
+/// Why a streamed raster render cannot fit the memory cap whatever the chunk size.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{file}: a {width}-pixel-wide {eyes_word} frame needs an estimated {need} while streaming, over the memory cap of {cap}{source_of_cap}; use a smaller --width or raise --max-memory"
+)]
+pub struct FrameOverBudget {
+    /// The file.
+    pub file: String,
+    /// Image width per eye.
+    pub width: u32,
+    /// "mono" or "stereo".
+    pub eyes_word: &'static str,
+    /// The estimate at the smallest chunk, formatted.
+    pub need: String,
+    /// The cap, formatted.
+    pub cap: String,
+    /// Where the cap comes from (empty when given on the command line).
+    pub source_of_cap: String,
+}
+
+/// The largest chunk (at most [`crate::stream::DEFAULT_CHUNK_POINTS`], at least
+/// [`MIN_CHUNK_POINTS`]) whose streamed raster render fits `cap`.
+///
+/// # Errors
+/// [`FrameOverBudget`] when even the smallest chunk does not fit.
+pub fn raster_chunk_points(
+    file: &std::path::Path,
+    width: u32,
+    eyes: u32,
+    cap: u64,
+    cap_is_default: bool,
+) -> Result<usize, FrameOverBudget> {
+    let mut chunk = crate::stream::DEFAULT_CHUNK_POINTS;
+    while raster_stream_estimate(width, eyes, chunk as u64).total() > cap {
+        if chunk <= MIN_CHUNK_POINTS {
+            return Err(FrameOverBudget {
+                file: file.display().to_string(),
+                width,
+                eyes_word: if eyes > 1 { "stereo" } else { "mono" },
+                need: format_size(raster_stream_estimate(width, eyes, chunk as u64).total()),
+                cap: format_size(cap),
+                source_of_cap: cap_source(cap_is_default),
+            });
+        }
+        chunk /= 2;
+    }
+    Ok(chunk)
+}
+
+fn cap_source(cap_is_default: bool) -> String {
+    if cap_is_default {
+        format!(
+            " ({:.0}% of the available memory)",
+            DEFAULT_FRACTION * 100.0
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// Parses a size: a number with an optional binary unit `K`, `M`, `G`, `T` (powers of 1024,
 /// optionally followed by `B` or `iB`, case-insensitive), e.g. `2G`, `800M`, `1.5GiB`, `4096`.
 ///
@@ -200,14 +293,7 @@ pub fn check_budget(
         points: estimate.points,
         need: format_size(estimate.total()),
         cap: format_size(cap),
-        source_of_cap: if cap_is_default {
-            format!(
-                " ({:.0}% of the available memory)",
-                DEFAULT_FRACTION * 100.0
-            )
-        } else {
-            String::new()
-        },
+        source_of_cap: cap_source(cap_is_default),
     })
 }
 
@@ -244,6 +330,29 @@ mod tests {
         assert_eq!(parse_meminfo_kb(text, "MemAvailable:"), Some(21_000_000));
         assert_eq!(parse_meminfo_kb(text, "VmHWM:"), None);
         assert!(peak_resident().is_some_and(|b| b > 0));
+    }
+
+    #[test]
+    fn the_stream_chunk_shrinks_to_fit_the_cap_and_the_frame_must_fit() {
+        let file = std::path::Path::new("big.laz");
+        let full = crate::stream::DEFAULT_CHUNK_POINTS;
+        assert_eq!(raster_chunk_points(file, 3840, 2, 8 << 30, false), Ok(full));
+        let roomy = raster_stream_estimate(3840, 2, full as u64).total();
+        let tight = raster_chunk_points(file, 3840, 2, roomy - 1, false).unwrap();
+        assert_eq!(tight, full / 2);
+        assert!(raster_stream_estimate(3840, 2, tight as u64).total() < roomy);
+        let e = raster_chunk_points(file, 3840, 2, 300 << 20, true).unwrap_err();
+        let text = e.to_string();
+        for needle in [
+            "big.laz",
+            "3840",
+            "stereo",
+            "300.0 MiB",
+            "--width",
+            "available",
+        ] {
+            assert!(text.contains(needle), "{needle}: {text}");
+        }
     }
 
     #[test]

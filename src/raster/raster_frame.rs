@@ -104,7 +104,7 @@ pub struct RasterFrame<'r> {
     targets: Vec<EyeTargets>,
     splat: bool,
     splat_limit: u32,
-    splat_keys: Vec<wgpu::Buffer>,
+    splat_keys: wgpu::Buffer,
     params_buf: wgpu::Buffer,
     vertices: wgpu::Buffer,
     args: wgpu::Buffer,
@@ -146,19 +146,14 @@ impl Rasterizer {
                     .max_buffer_size
                     .min(ctx.limits.max_storage_buffer_binding_size);
         let splat_limit = if splat { self.splat_limit } else { 0 };
-        // One key buffer per eye; a placeholder binding when the splat is off for this render.
+        // One key buffer, eye after eye; a placeholder binding when the splat is off.
         let splat_keys = ctx.scoped("allocating splat buffers", || {
-            views
-                .iter()
-                .map(|_| {
-                    device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("splat keys"),
-                        size: if splat { splat_bytes } else { 8 },
-                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                        mapped_at_creation: false,
-                    })
-                })
-                .collect::<Vec<_>>()
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("splat keys"),
+                size: if splat { splat_bytes } else { 8 },
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
         })?;
 
         let per_point = max_vertices_per_point(settings.proxy);
@@ -229,9 +224,7 @@ impl Rasterizer {
 
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&stats_buf, 0, None);
-        for keys in &splat_keys {
-            encoder.clear_buffer(keys, 0, None);
-        }
+        encoder.clear_buffer(&splat_keys, 0, None);
         for t in &targets {
             t.clear(&mut encoder);
         }
@@ -313,45 +306,35 @@ impl<'r> RasterFrame<'r> {
         let r = self.rasterizer;
         let ctx = &r.ctx;
         let device = &ctx.device;
-        let (expand_bgs, draw_bg, resolve_bgs) = ctx.scoped("binding a chunk", || {
-            let expand_bgs: Vec<_> = self
-                .splat_keys
-                .iter()
-                .map(|keys| {
-                    let mut entries = vec![
+        let keys = &self.splat_keys;
+        let (expand_bg, draw_bg, resolve_bg) = ctx.scoped("binding a chunk", || {
+            let mut entries = vec![
+                entry(0, &self.params_buf),
+                entry(1, &chunk.points),
+                entry(3, &self.vertices),
+                entry(4, &self.args),
+                entry(5, &self.stats_buf),
+            ];
+            if ctx.int64_atomics {
+                entries.push(entry(6, keys));
+            }
+            let expand_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("expand"),
+                layout: &r.pipelines.expand.get_bind_group_layout(0),
+                entries: &entries,
+            });
+            let resolve_bg = self.splat.then(|| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("splat resolve"),
+                    layout: &r.pipelines.resolve.get_bind_group_layout(0),
+                    entries: &[
                         entry(0, &self.params_buf),
                         entry(1, &chunk.points),
-                        entry(3, &self.vertices),
-                        entry(4, &self.args),
-                        entry(5, &self.stats_buf),
-                    ];
-                    if ctx.int64_atomics {
-                        entries.push(entry(6, keys));
-                    }
-                    device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("expand"),
-                        layout: &r.pipelines.expand.get_bind_group_layout(0),
-                        entries: &entries,
-                    })
+                        entry(2, &chunk.colors),
+                        entry(3, keys),
+                    ],
                 })
-                .collect();
-            let resolve_bgs: Vec<_> = self
-                .splat_keys
-                .iter()
-                .filter(|_| self.splat)
-                .map(|keys| {
-                    device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("splat resolve"),
-                        layout: &r.pipelines.resolve.get_bind_group_layout(0),
-                        entries: &[
-                            entry(0, &self.params_buf),
-                            entry(1, &chunk.points),
-                            entry(2, &chunk.colors),
-                            entry(3, keys),
-                        ],
-                    })
-                })
-                .collect();
+            });
             let draw_bg = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("imposters"),
                 layout: &r.pipelines.imposter.get_bind_group_layout(0),
@@ -361,13 +344,15 @@ impl<'r> RasterFrame<'r> {
                     entry(2, &chunk.colors),
                 ],
             });
-            (expand_bgs, draw_bg, resolve_bgs)
+            (expand_bg, draw_bg, resolve_bg)
         })?;
         self.started.get_or_insert_with(Instant::now);
-        let mut first = 0u32;
-        while first < chunk.len {
-            let count = (chunk.len - first).min(self.batch);
-            for (eye, (view, target)) in self.views.iter().zip(&self.targets).enumerate() {
+        // Eye by eye, so that one splat key buffer serves both: its keys index this chunk's
+        // points for this eye and are merged (and cleared) before the next.
+        for (eye, (view, target)) in self.views.iter().zip(&self.targets).enumerate() {
+            let mut first = 0u32;
+            while first < chunk.len {
+                let count = (chunk.len - first).min(self.batch);
                 let params = Params::new(
                     view,
                     &self.settings,
@@ -394,7 +379,7 @@ impl<'r> RasterFrame<'r> {
                         }),
                     });
                     pass.set_pipeline(&r.pipelines.expand);
-                    pass.set_bind_group(0, &expand_bgs[eye], &[]);
+                    pass.set_bind_group(0, &expand_bg, &[]);
                     pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
                 }
                 {
@@ -409,36 +394,29 @@ impl<'r> RasterFrame<'r> {
                 ctx.wait("drawing imposters")?;
                 progress.inc(count as u64);
                 self.batches += 1;
+                first += count;
             }
-            first += count;
-        }
-        // Splat keys index this chunk's points: merge them before the next chunk.
-        for (eye, ((view, target), bg)) in self
-            .views
-            .iter()
-            .zip(&self.targets)
-            .zip(&resolve_bgs)
-            .enumerate()
-        {
-            let params = Params::new(
-                view,
-                &self.settings,
-                eye as u32,
-                (0, 0),
-                self.vertex_capacity,
-            );
-            ctx.queue
-                .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&params));
-            let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = target.begin_pass(&mut encoder, false, None);
-                pass.set_pipeline(&r.pipelines.resolve);
-                pass.set_bind_group(0, bg, &[]);
-                pass.draw(0..3, 0..1);
+            if let Some(bg) = &resolve_bg {
+                let params = Params::new(
+                    view,
+                    &self.settings,
+                    eye as u32,
+                    (0, 0),
+                    self.vertex_capacity,
+                );
+                ctx.queue
+                    .write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&params));
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = target.begin_pass(&mut encoder, false, None);
+                    pass.set_pipeline(&r.pipelines.resolve);
+                    pass.set_bind_group(0, bg, &[]);
+                    pass.draw(0..3, 0..1);
+                }
+                encoder.clear_buffer(keys, 0, None);
+                ctx.queue.submit([encoder.finish()]);
+                ctx.wait("resolving splatted spheres")?;
             }
-            encoder.clear_buffer(&self.splat_keys[eye], 0, None);
-            ctx.queue.submit([encoder.finish()]);
-            ctx.wait("resolving splatted spheres")?;
         }
         Ok(())
     }
