@@ -21,6 +21,7 @@ pub mod scene;
 pub mod stream;
 pub mod subsample;
 pub mod suite;
+pub mod synthetic;
 
 pub use frame::{Frame, Rendered};
 pub use scene::{Attributes, Radii, Scene};
