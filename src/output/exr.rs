@@ -5,11 +5,9 @@
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SmallVec,
-    WritableImage,
-};
+use exr::prelude::{Encoding, Image, Layer, LayerAttributes, SpecificChannels, WritableImage};
 
+use super::linear_image::linear_pixel;
 use super::{LinearImage, OutputError};
 use crate::frame::Frame;
 
@@ -43,27 +41,50 @@ pub fn encode_exr(
             height: frame.height,
         });
     }
-    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
-    if content == ExrContent::ColorAndDepth {
-        let lin = LinearImage::from_frame(frame);
-        for (name, k) in [("R", 0), ("G", 1), ("B", 2)] {
-            let samples = lin.color.iter().map(|c| c[k]).collect();
-            channels.push(AnyChannel::new(name, FlatSamples::F32(samples)));
+    let size = (frame.width as usize, frame.height as usize);
+    let at = move |p: exr::math::Vec2<usize>| p.x() + p.y() * frame.width as usize;
+    // ZIP keeps float data lossless and compresses the large constant background well.
+    // Samples are computed per block as the encoder asks, so no full-size float copy of the
+    // frame is ever held (20 bytes a pixel at five channels).
+    let encoding = Encoding::SMALL_LOSSLESS;
+    match content {
+        ExrContent::ColorAndDepth => {
+            let channels = SpecificChannels::build()
+                .with_channel("A")
+                .with_channel("B")
+                .with_channel("G")
+                .with_channel("R")
+                .with_channel("Z")
+                .with_pixel_fn(|p| {
+                    let k = at(p);
+                    let (rgb, a) = linear_pixel(frame.color[k]);
+                    (a, rgb[2], rgb[1], rgb[0], frame.depth[k])
+                });
+            Image::from_layer(Layer::new(
+                size,
+                LayerAttributes::default(),
+                encoding,
+                channels,
+            ))
+            .write()
+            .to_buffered(out)
+            .map_err(exr_error(path))
         }
-        channels.push(AnyChannel::new("A", FlatSamples::F32(lin.coverage)));
+        ExrContent::DepthOnly => {
+            let channels = SpecificChannels::build()
+                .with_channel("Z")
+                .with_pixel_fn(|p| (frame.depth[at(p)],));
+            Image::from_layer(Layer::new(
+                size,
+                LayerAttributes::default(),
+                encoding,
+                channels,
+            ))
+            .write()
+            .to_buffered(out)
+            .map_err(exr_error(path))
+        }
     }
-    channels.push(AnyChannel::new("Z", FlatSamples::F32(frame.depth.clone())));
-    let layer = Layer::new(
-        (frame.width as usize, frame.height as usize),
-        LayerAttributes::default(),
-        // ZIP keeps float data lossless and compresses the large constant background well.
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(channels),
-    );
-    Image::from_layer(layer)
-        .write()
-        .to_buffered(out)
-        .map_err(exr_error(path))
 }
 
 /// Reads the first layer of an EXR file. Missing `R`/`G`/`B` read as 0; a missing `Z` as

@@ -19,6 +19,20 @@ pub struct LinearImage {
     pub depth: Vec<f32>,
 }
 
+/// One sRGB pixel with alpha as premultiplied linear RGB and coverage.
+#[inline]
+pub fn linear_pixel(c: [u8; 4]) -> ([f32; 3], f32) {
+    let a = c[3] as f32 / 255.0;
+    (
+        [
+            srgb_to_linear(c[0]) * a,
+            srgb_to_linear(c[1]) * a,
+            srgb_to_linear(c[2]) * a,
+        ],
+        a,
+    )
+}
+
 impl LinearImage {
     /// Number of pixels.
     pub fn len(&self) -> usize {
@@ -38,19 +52,7 @@ impl LinearImage {
 
     /// Converts a rendered frame: sRGB bytes to linear light, alpha to coverage.
     pub fn from_frame(frame: &Frame) -> LinearImage {
-        let coverage: Vec<f32> = frame.color.iter().map(|c| c[3] as f32 / 255.0).collect();
-        let color = frame
-            .color
-            .iter()
-            .zip(&coverage)
-            .map(|(c, &a)| {
-                [
-                    srgb_to_linear(c[0]) * a,
-                    srgb_to_linear(c[1]) * a,
-                    srgb_to_linear(c[2]) * a,
-                ]
-            })
-            .collect();
+        let (color, coverage) = frame.color.iter().map(|&c| linear_pixel(c)).unzip();
         LinearImage {
             width: frame.width,
             height: frame.height,

@@ -487,9 +487,12 @@ impl<'r> RasterFrame<'r> {
             vertices: sum(5),
             batches: self.batches,
         };
+        // The work buffers are no longer needed, and each eye's textures go as soon as its
+        // frame is read back: the peak while reading stays near one eye's read-back.
+        drop((self.splat_keys, self.vertices, self.query));
         let mut frames: Vec<Frame> = self
             .targets
-            .iter()
+            .into_iter()
             .map(|t| t.read(ctx))
             .collect::<Result<_, _>>()?;
         let rendered = if frames.len() == 2 {

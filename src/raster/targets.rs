@@ -170,22 +170,25 @@ impl EyeTargets {
             );
         }
         ctx.queue.submit([encoder.finish()]);
-        let color = map_read(ctx, &color_buf, "reading back colour")?;
-        let dist = map_read(ctx, &dist_buf, "reading back distances")?;
-        let mut frame = Frame::new(w, h);
-        for j in 0..h as usize {
-            let src = j * row as usize;
-            for i in 0..w as usize {
-                let k = j * w as usize + i;
-                let c = &color[src + 4 * i..src + 4 * i + 4];
-                if c[3] != 0 {
-                    frame.color[k] = [c[0], c[1], c[2], 255];
-                    let d = &dist[src + 4 * i..src + 4 * i + 4];
-                    frame.depth[k] = f32::from_le_bytes([d[0], d[1], d[2], d[3]]);
+        // Straight from the mapped buffers into the frame: no intermediate copy of the image.
+        map_read_with(ctx, &color_buf, "reading back colour", |color| {
+            map_read_with(ctx, &dist_buf, "reading back distances", |dist| {
+                let mut frame = Frame::new(w, h);
+                for j in 0..h as usize {
+                    let src = j * row as usize;
+                    for i in 0..w as usize {
+                        let k = j * w as usize + i;
+                        let c = &color[src + 4 * i..src + 4 * i + 4];
+                        if c[3] != 0 {
+                            frame.color[k] = [c[0], c[1], c[2], 255];
+                            let d = &dist[src + 4 * i..src + 4 * i + 4];
+                            frame.depth[k] = f32::from_le_bytes([d[0], d[1], d[2], d[3]]);
+                        }
+                    }
                 }
-            }
-        }
-        Ok(frame)
+                frame
+            })
+        })?
     }
 }
 
@@ -195,6 +198,16 @@ pub fn map_read(
     buffer: &wgpu::Buffer,
     what: &str,
 ) -> Result<Vec<u8>, RasterError> {
+    map_read_with(ctx, buffer, what, <[u8]>::to_vec)
+}
+
+/// Maps `buffer` for reading, waits, and returns what `f` makes of its bytes.
+pub fn map_read_with<T>(
+    ctx: &GpuContext,
+    buffer: &wgpu::Buffer,
+    what: &str,
+    f: impl FnOnce(&[u8]) -> T,
+) -> Result<T, RasterError> {
     let (tx, rx) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
@@ -207,10 +220,9 @@ pub fn map_read(
     rx.recv()
         .map_err(|e| gpu_err(e.to_string()))?
         .map_err(|e| gpu_err(e.to_string()))?;
-    let bytes = buffer
+    let out = f(&buffer
         .get_mapped_range(..)
-        .map_err(|e| gpu_err(e.to_string()))?
-        .to_vec();
+        .map_err(|e| gpu_err(e.to_string()))?);
     buffer.unmap();
-    Ok(bytes)
+    Ok(out)
 }
