@@ -1,7 +1,7 @@
 //! Automatic camera placement: eye height above the ground at the middle of the scan.
 
 use crate::scene::Scene;
-use glam::DVec3;
+use glam::{DVec3, Vec2};
 use std::collections::HashMap;
 
 /// Eye height above the estimated ground (metres).
@@ -70,6 +70,14 @@ pub fn auto_camera_position(scene: &Scene) -> Option<DVec3> {
     let (lo, hi) = scene.bounds()?;
     let centre = (lo.truncate() + hi.truncate()) * 0.5;
     let extent = (hi.truncate() - lo.truncate()).max_element();
+    ground_camera_position(scene, centre, extent)
+}
+
+/// [`auto_camera_position`] at a given XY `centre` (local frame) of a cloud `extent` metres
+/// wide: for a scene that is a sample of a larger cloud, whose own bounds may miss the
+/// cloud's edges (the centre and extent then come from the file's header). `None` when no
+/// point of the scene lies within `extent` of the centre.
+pub fn ground_camera_position(scene: &Scene, centre: Vec2, extent: f32) -> Option<DVec3> {
     let mut radius = if extent > 0.0 { extent / 64.0 } else { 1.0 };
     let mut cells: HashMap<(i32, i32), Vec<f32>> = HashMap::new();
     loop {
@@ -94,6 +102,9 @@ pub fn auto_camera_position(scene: &Scene) -> Option<DVec3> {
             *z.select_nth_unstable_by(rank, f32::total_cmp).1
         })
         .collect();
+    if grounds.is_empty() {
+        return None;
+    }
     let mid = (grounds.len() - 1) / 2;
     let ground = *grounds.select_nth_unstable_by(mid, f32::total_cmp).1;
     Some(DVec3::new(
@@ -106,7 +117,7 @@ pub fn auto_camera_position(scene: &Scene) -> Option<DVec3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::{Vec2, Vec3};
+    use glam::Vec3;
 
     /// A deterministic pseudo-random sequence in [0, 1).
     fn lcg(seed: &mut u64) -> f32 {

@@ -16,6 +16,15 @@ use rayon::prelude::*;
 
 use crate::scene::Scene;
 
+/// A sphere radius choice (`--radius`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RadiusChoice {
+    /// One radius for every point, metres.
+    Fixed(f32),
+    /// Half the median nearest-neighbour spacing ([`auto_radius`]).
+    Auto,
+}
+
 /// Most points whose nearest neighbour is searched.
 pub const MAX_QUERIES: usize = 100_000;
 

@@ -3,7 +3,7 @@
 pub mod args;
 mod bench;
 pub mod parse;
-mod prepare;
+pub(crate) mod prepare;
 mod progress;
 mod render;
 mod render_guard;

@@ -6,14 +6,7 @@ use glam::DVec3;
 use crate::projection::PoleMerge;
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
-/// A sphere radius choice.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum RadiusChoice {
-    /// One radius for every point, metres.
-    Fixed(f32),
-    /// Half the median nearest-neighbour spacing.
-    Auto,
-}
+pub use crate::radius::RadiusChoice;
 
 fn finite(s: &str, what: &str) -> Result<f64, String> {
     let v: f64 = s

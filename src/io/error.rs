@@ -117,6 +117,27 @@ pub enum LoadError {
         /// The decoder's panic message.
         detail: String,
     },
+    /// A seek asked for a point index beyond the declared count.
+    #[error("{}: cannot seek to point {point}: the file declares {declared} points", path.display())]
+    SeekPastEnd {
+        /// The file.
+        path: PathBuf,
+        /// Point index asked for.
+        point: u64,
+        /// Point count from the header.
+        declared: u64,
+    },
+    /// The reader cannot position itself at a point (a LAZ file without a chunk table, a
+    /// failed file seek, data ending before the point).
+    #[error("{}: cannot seek to point {point}: {detail}", path.display())]
+    SeekFailed {
+        /// The file.
+        path: PathBuf,
+        /// Point index asked for.
+        point: u64,
+        /// What failed.
+        detail: String,
+    },
     /// The PLY file has no `vertex` element with scalar `x`, `y` and `z` properties.
     #[error("{}: PLY has no 'vertex' element with scalar x, y and z properties ({detail})", path.display())]
     PlyMissingXyz {
@@ -143,6 +164,8 @@ impl LoadError {
             | LoadError::UnsupportedLasVersion { path, .. }
             | LoadError::UnsupportedLasPointFormat { path, .. }
             | LoadError::PlyMissingXyz { path, .. }
+            | LoadError::SeekPastEnd { path, .. }
+            | LoadError::SeekFailed { path, .. }
             | LoadError::DecoderPanic { path, .. } => path,
         }
     }

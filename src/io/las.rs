@@ -21,7 +21,8 @@ pub(crate) struct LasSource {
     read: u64,
     /// Bytes per point record, as the header declares.
     record_len: u64,
-    /// Set after the decoder panicked: its state is unknown, so nothing more is read.
+    /// Set after the decoder panicked or a seek failed: its state is unknown, so nothing more
+    /// is read.
     broken: bool,
 }
 
@@ -188,6 +189,36 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
 }
 
 impl LasSource {
+    /// Positions the next read at point index `point` (`point == declared` reads nothing).
+    pub(crate) fn seek(&mut self, point: u64) -> Result<(), LoadError> {
+        let failed = |detail: String| LoadError::SeekFailed {
+            path: self.path.clone(),
+            point,
+            detail,
+        };
+        if self.broken {
+            return Err(failed("the decoder failed earlier in this file".into()));
+        }
+        if point > self.declared {
+            return Err(LoadError::SeekPastEnd {
+                path: self.path.clone(),
+                point,
+                declared: self.declared,
+            });
+        }
+        let (path, reader) = (&self.path, &mut self.reader);
+        guarded(path, "seeking", || {
+            reader.seek(point).map_err(|e| LoadError::SeekFailed {
+                path: path.clone(),
+                point,
+                detail: e.to_string(),
+            })
+        })
+        .inspect_err(|_| self.broken = true)?;
+        self.read = point;
+        Ok(())
+    }
+
     /// Reads up to `n` points; `None` once the declared count has been read.
     pub(crate) fn next_raw(&mut self, n: usize) -> Result<Option<RawChunk>, LoadError> {
         if self.read >= self.declared || self.broken {

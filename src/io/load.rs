@@ -7,6 +7,7 @@ use super::info::FileInfo;
 use super::open;
 use crate::scene::{Attributes, Radii, Scene};
 use glam::{DVec3, Vec3};
+use indicatif::ProgressBar;
 use std::path::Path;
 
 /// Points read per chunk while loading.
@@ -96,10 +97,10 @@ enum ColorAccum {
 const MAX_COORDINATE: f64 = 1e30;
 
 /// Widest header bounds (metres) trusted as the origin's source: larger than any real scan.
-const MAX_HEADER_EXTENT: f64 = 1e7;
+pub(crate) const MAX_HEADER_EXTENT: f64 = 1e7;
 
 /// A point that survives loading: finite and within [`MAX_COORDINATE`].
-fn usable(p: DVec3) -> bool {
+pub(crate) fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
 }
 
@@ -128,6 +129,19 @@ fn keep<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>
 /// Any [`LoadError`] from [`open`] or from reading the points; [`LoadError::NoFinitePoints`]
 /// when no point survives.
 pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadReport), LoadError> {
+    load_scene_with_progress(path, options, &ProgressBar::hidden())
+}
+
+/// [`load_scene`], with `progress` counting the point records read (its length set to the
+/// declared count).
+///
+/// # Errors
+/// As [`load_scene`].
+pub fn load_scene_with_progress(
+    path: &Path,
+    options: &LoadOptions,
+    progress: &ProgressBar,
+) -> Result<(Scene, LoadReport), LoadError> {
     let mut reader = open(path)?;
     let info = reader.info().clone();
     let up = options.up;
@@ -136,6 +150,7 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
     // per point, and where one spends less the vectors simply grow.
     let file_len = std::fs::metadata(path).map_or(0, |m| m.len());
     let reserve = info.point_count.min(MAX_RESERVE).min(file_len) as usize;
+    progress.set_length(info.point_count);
     let header_centre = info.bounds.map(|(lo, hi)| {
         let (a, b) = (up.to_world(lo), up.to_world(hi));
         (a.min(b), a.max(b))
@@ -159,6 +174,7 @@ pub fn load_scene(path: &Path, options: &LoadOptions) -> Result<(Scene, LoadRepo
             radius: chunk_radius,
         } = raw;
         points_read += file_positions.len() as u64;
+        progress.inc(file_positions.len() as u64);
         let world: Vec<DVec3> = file_positions.into_iter().map(|p| up.to_world(p)).collect();
         let kept: Vec<bool> = world.iter().map(|p| usable(*p)).collect();
         dropped += kept.iter().filter(|k| !**k).count() as u64;

@@ -17,9 +17,10 @@ mod ply;
 pub use chunk::{ColorScale, PointChunk};
 pub use error::LoadError;
 pub use info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
-pub use load::{LoadOptions, LoadReport, Up, load_scene};
+pub use load::{LoadOptions, LoadReport, Up, load_scene, load_scene_with_progress};
+pub(crate) use load::{MAX_HEADER_EXTENT, usable};
 
-use chunk::RawChunk;
+pub(crate) use chunk::{RawChunk, RawRgb};
 use std::collections::VecDeque;
 use std::io::Read;
 use std::path::Path;
@@ -38,6 +39,13 @@ impl Source {
         match self {
             Source::Las(s) => s.next_raw(n),
             Source::Ply(s) => s.next_raw(n),
+        }
+    }
+
+    fn seek(&mut self, point: u64) -> Result<(), LoadError> {
+        match self {
+            Source::Las(s) => s.seek(point),
+            Source::Ply(s) => s.seek(point),
         }
     }
 }
@@ -151,6 +159,30 @@ impl PointReader {
             pending: VecDeque::new(),
             done: false,
         }
+    }
+
+    /// Streams the points in chunks like [`PointReader::chunks`], with 16-bit colour scaled by
+    /// `scale` instead of a scale detected from the first points: for streams whose scale
+    /// was decided beforehand (from a survey of the whole file), so every chunk agrees.
+    pub fn chunks_with_scale(self, chunk_size: usize, scale: ColorScale) -> Chunks {
+        Chunks {
+            scale: Some(scale),
+            ..self.chunks(chunk_size)
+        }
+    }
+
+    /// Positions the next read at point index `point`: LAS jumps to the record, LAZ to its
+    /// compressed chunk (through the chunk table) and decodes up to the point, binary PLY
+    /// jumps to the record, ascii PLY reads and discards lines. `point` equal to the declared
+    /// count leaves nothing to read.
+    ///
+    /// # Errors
+    /// [`LoadError::SeekPastEnd`] beyond the declared count; [`LoadError::SeekFailed`] when
+    /// the reader cannot get there (a LAZ file without a chunk table, an I/O error); a
+    /// [`LoadError::CorruptPoints`] when an ascii PLY file ends before the point. After a
+    /// failed seek the reader's position is unknown: open the file again.
+    pub fn seek(&mut self, point: u64) -> Result<(), LoadError> {
+        self.source.seek(point)
     }
 
     /// Reads raw (unscaled) chunks: for [`load_scene`], which decides the colour scale from

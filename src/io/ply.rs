@@ -115,6 +115,10 @@ pub(crate) struct PlySource {
     declared: u64,
     read: u64,
     line: String,
+    /// Byte offset of the first vertex.
+    vertex_start: u64,
+    /// Bytes per vertex in a binary file without list properties: binary seeks jump.
+    record_len: Option<u64>,
 }
 
 fn scalar_size(t: &ScalarType) -> u64 {
@@ -206,13 +210,13 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
             .map(|(a, r)| a + r * def.count as u64);
         skip_element(path, &mut reader, def, encoding)?;
     }
-    if encoding != Encoding::Ascii
-        && let (Some(record), Some(_)) = (fixed_record_len(&vertex), before_len)
-    {
-        let start = reader
-            .get_mut()
-            .stream_position()
-            .map_err(|e| LoadError::from_io(path, e))?;
+    let vertex_start = reader
+        .get_mut()
+        .stream_position()
+        .map_err(|e| LoadError::from_io(path, e))?;
+    let record_len = fixed_record_len(&vertex).filter(|_| encoding != Encoding::Ascii);
+    if let (Some(record), Some(_)) = (record_len, before_len) {
+        let start = vertex_start;
         let available = file_len.saturating_sub(start) / record.max(1);
         if declared > available {
             return Err(LoadError::PointCountExceedsFile {
@@ -271,6 +275,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         declared,
         read: 0,
         line: String::new(),
+        vertex_start,
+        record_len,
     };
     Ok((info, source))
 }
@@ -381,6 +387,62 @@ impl PlySource {
                 self.corrupt(e.to_string())
             }
         })
+    }
+
+    /// Positions the next read at vertex `point` (`point == declared` reads nothing): binary
+    /// files with fixed-size records jump there; ascii files (and binary ones with list
+    /// properties) read and discard the vertices before it, from the start when going back.
+    pub(crate) fn seek(&mut self, point: u64) -> Result<(), LoadError> {
+        if point > self.declared {
+            return Err(LoadError::SeekPastEnd {
+                path: self.path.clone(),
+                point,
+                declared: self.declared,
+            });
+        }
+        let failed = |e: std::io::Error| LoadError::SeekFailed {
+            path: self.path.clone(),
+            point,
+            detail: e.to_string(),
+        };
+        if let Some(record) = self.record_len {
+            let at = self.vertex_start + point * record;
+            self.reader
+                .get_mut()
+                .seek(std::io::SeekFrom::Start(at))
+                .map_err(failed)?;
+            self.read = point;
+            return Ok(());
+        }
+        if point < self.read {
+            self.reader
+                .get_mut()
+                .seek(std::io::SeekFrom::Start(self.vertex_start))
+                .map_err(failed)?;
+            self.read = 0;
+        }
+        while self.read < point {
+            if self.encoding == Encoding::Ascii {
+                self.skip_ascii_line()?;
+            } else {
+                self.next_vertex()?;
+            }
+            self.read += 1;
+        }
+        Ok(())
+    }
+
+    /// Reads past one non-blank ascii line.
+    fn skip_ascii_line(&mut self) -> Result<(), LoadError> {
+        loop {
+            self.line.clear();
+            match self.reader.get_mut().read_line(&mut self.line) {
+                Ok(0) => return Err(self.corrupt("the file ends early".into())),
+                Ok(_) if self.line.trim().is_empty() => continue,
+                Ok(_) => return Ok(()),
+                Err(e) => return Err(self.corrupt(e.to_string())),
+            }
+        }
     }
 
     /// Reads up to `n` vertices; `None` once the declared count has been read.

@@ -1,22 +1,25 @@
 //! Out-of-core rendering: a point file streamed in chunks through a renderer that accumulates
 //! into one image, so resident memory follows the chunk size, not the point count.
 //!
-//! A worker thread decodes chunks while the caller's [`ChunkSink`] draws the previous one;
-//! a bounded channel of depth [`CHANNEL_DEPTH`] keeps at most that many decoded chunks
-//! waiting. What needs the whole cloud is decided from the first chunk:
-//! - the camera (when not given): [`crate::placement::auto_camera_position`] on the first
-//!   chunk — LAS files are usually stored in spatial order, so this is the ground at the
-//!   centre of the first patch, not of the whole scan; pass `--camera` for a chosen view;
-//! - `--radius auto`: half the median spacing of the first chunk (a local patch gives the
-//!   local spacing, which is what the radius is for).
+//! [`plan`] first surveys the file (evenly spaced blocks of it, or all of it when small) and
+//! decides what needs the whole cloud: the camera, the radius, the colour ranges and the
+//! 16-bit colour scale. [`stream_file`] then draws the planned cloud: the survey's copy when
+//! it read every point, else chunks decoded by a worker thread while the caller's
+//! [`ChunkSink`] draws the previous one; a bounded channel of depth [`CHANNEL_DEPTH`] keeps at
+//! most that many decoded chunks waiting.
 //!
 //! Points with NaN/inf or absurd coordinates are dropped and counted, as `load_scene` does.
+
+mod error;
+pub mod plan;
+
+pub use error::{SinkError, StreamError};
+pub use plan::{PlanOptions, SURVEY_POINTS, StreamPlan, plan};
 
 use crate::io::{self, LoadError, PointChunk, Up};
 use crate::scene::{Attributes, Radii, Scene};
 use glam::DVec3;
 use indicatif::ProgressBar;
-use std::path::Path;
 use std::sync::mpsc::sync_channel;
 use std::time::Instant;
 
@@ -31,32 +34,9 @@ pub trait ChunkSink {
     /// Draws (or otherwise consumes) one chunk.
     ///
     /// # Errors
-    /// Whatever the renderer reports; streaming stops.
-    fn draw(&mut self, chunk: &Scene) -> anyhow::Result<()>;
-}
-
-/// How to stream.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StreamOptions {
-    /// Points per chunk.
-    pub chunk_points: usize,
-    /// Camera world position; `None` = placed on the first chunk (see the module docs).
-    pub camera: Option<DVec3>,
-    /// Sphere radius; `None` = auto from the first chunk (files with per-point radii keep them).
-    pub radius: Option<f32>,
-    /// Up axis of the file.
-    pub up: Up,
-}
-
-impl Default for StreamOptions {
-    fn default() -> Self {
-        StreamOptions {
-            chunk_points: DEFAULT_CHUNK_POINTS,
-            camera: None,
-            radius: None,
-            up: Up::Z,
-        }
-    }
+    /// Whatever the renderer reports (as [`StreamError::Sink`], see [`StreamError::sink`]);
+    /// streaming stops.
+    fn draw(&mut self, chunk: &Scene) -> Result<(), StreamError>;
 }
 
 /// What a stream did.
@@ -86,15 +66,19 @@ impl StreamReport {
 }
 
 /// A chunk as a scene relative to `origin`, without unusable points; returns it and the
-/// number dropped.
-pub fn chunk_scene(chunk: PointChunk, origin: DVec3, up: Up, radius: f32) -> (Scene, u64) {
+/// number dropped. Points get the file's radii when `keep_file_radii` and the chunk has them
+/// (`radius` where a file radius is not a positive finite number), else `radius`.
+pub fn chunk_scene(
+    chunk: PointChunk,
+    origin: DVec3,
+    up: Up,
+    radius: f32,
+    keep_file_radii: bool,
+) -> (Scene, u64) {
     let keep: Vec<bool> = chunk
         .positions
         .iter()
-        .map(|p| {
-            let w = up.to_world(*p);
-            w.is_finite() && w.abs().max_element() <= 1e30
-        })
+        .map(|p| io::usable(up.to_world(*p)))
         .collect();
     let dropped = keep.iter().filter(|k| !**k).count() as u64;
     fn pick<T: Copy>(v: Option<Vec<T>>, keep: &[bool]) -> Option<Vec<T>> {
@@ -113,7 +97,8 @@ pub fn chunk_scene(chunk: PointChunk, origin: DVec3, up: Up, radius: f32) -> (Sc
         .filter(|(_, k)| **k)
         .map(|(p, _)| (up.to_world(*p) - origin).as_vec3())
         .collect();
-    let radii = match pick(chunk.radius, &keep) {
+    let file_radii = chunk.radius.filter(|_| keep_file_radii);
+    let radii = match pick(file_radii, &keep) {
         Some(mut r) => {
             for x in &mut r {
                 if !(x.is_finite() && *x > 0.0) {
@@ -137,28 +122,97 @@ pub fn chunk_scene(chunk: PointChunk, origin: DVec3, up: Up, radius: f32) -> (Sc
     (scene, dropped)
 }
 
-/// Streams `path` through `sink` (see the module docs); `progress` counts points read of the
-/// declared total.
+/// Streams the planned file through `sink` in chunks of `chunk_points`: `plan.whole` when the
+/// survey read every point (the file is not read again), else the file decoded on a worker
+/// thread with the plan's colour scale, each chunk relative to `plan.camera` and sized by the
+/// plan's radius rule. `progress` counts points read of the declared total.
 ///
 /// # Errors
-/// A [`LoadError`] from reading, an empty first chunk, or the sink's error.
+/// A [`LoadError`] from reading, the sink's error, or a failed decoding thread.
 pub fn stream_file(
-    path: &Path,
-    options: &StreamOptions,
+    plan: &StreamPlan,
+    chunk_points: usize,
     sink: &mut dyn ChunkSink,
     progress: &ProgressBar,
-) -> anyhow::Result<StreamReport> {
+) -> Result<StreamReport, StreamError> {
     let started = Instant::now();
-    // The las reader is not Send: the header is read here, the points by a second reader
-    // opened on the worker thread.
-    let declared = io::open(path)?.info().point_count;
-    progress.set_length(declared);
-    let chunk_points = options.chunk_points.max(1);
+    let chunk_points = chunk_points.max(1);
+    let mut report = StreamReport {
+        declared: plan.declared,
+        read: 0,
+        drawn: 0,
+        dropped: 0,
+        camera: plan.camera,
+        radius: plan.radius,
+        seconds: 0.0,
+    };
+    match &plan.whole {
+        Some(whole) => draw_whole(plan, whole, chunk_points, sink, progress, &mut report)?,
+        None => draw_decoded(plan, chunk_points, sink, progress, &mut report)?,
+    }
+    report.seconds = started.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// Draws the survey's copy of the cloud in chunks.
+fn draw_whole(
+    plan: &StreamPlan,
+    whole: &Scene,
+    chunk_points: usize,
+    sink: &mut dyn ChunkSink,
+    progress: &ProgressBar,
+    report: &mut StreamReport,
+) -> Result<(), StreamError> {
+    progress.set_length(plan.surveyed);
+    progress.inc(plan.dropped);
+    report.read = plan.surveyed;
+    report.dropped = plan.dropped;
+    for start in (0..whole.len()).step_by(chunk_points) {
+        let end = (start + chunk_points).min(whole.len());
+        let chunk = Scene {
+            origin: whole.origin,
+            positions: whole.positions[start..end].to_vec(),
+            radii: match &whole.radii {
+                Radii::Uniform(r) => Radii::Uniform(*r),
+                Radii::PerPoint(r) => Radii::PerPoint(r[start..end].to_vec()),
+            },
+            attributes: Attributes {
+                rgb: part(&whole.attributes.rgb, start..end),
+                intensity: part(&whole.attributes.intensity, start..end),
+                classification: part(&whole.attributes.classification, start..end),
+            },
+        };
+        sink.draw(&chunk)?;
+        report.drawn += chunk.len() as u64;
+        progress.inc(chunk.len() as u64);
+    }
+    Ok(())
+}
+
+/// Entries `range` of an optional attribute.
+fn part<T: Clone>(values: &Option<Vec<T>>, range: std::ops::Range<usize>) -> Option<Vec<T>> {
+    values.as_ref().map(|v| v[range].to_vec())
+}
+
+/// Decodes the file on a worker thread and draws each chunk as it arrives.
+fn draw_decoded(
+    plan: &StreamPlan,
+    chunk_points: usize,
+    sink: &mut dyn ChunkSink,
+    progress: &ProgressBar,
+    report: &mut StreamReport,
+) -> Result<(), StreamError> {
+    progress.set_length(plan.declared);
+    let worker_failed = |detail: String| StreamError::Worker {
+        path: plan.path.clone(),
+        detail,
+    };
+    // The las reader is not Send: the worker opens its own.
     let (tx, rx) = sync_channel::<Result<PointChunk, LoadError>>(CHANNEL_DEPTH);
     let worker = std::thread::Builder::new()
         .name("omnicloud-decode".into())
         .spawn({
-            let path = path.to_path_buf();
+            let (path, scale) = (plan.path.clone(), plan.color_scale);
             move || {
                 let reader = match io::open(&path) {
                     Ok(r) => r,
@@ -167,80 +221,40 @@ pub fn stream_file(
                         return;
                     }
                 };
-                for chunk in reader.chunks(chunk_points) {
+                for chunk in reader.chunks_with_scale(chunk_points, scale) {
                     if tx.send(chunk).is_err() {
                         break; // the renderer stopped
                     }
                 }
             }
-        })?;
-
-    let mut report = StreamReport {
-        declared,
-        read: 0,
-        drawn: 0,
-        dropped: 0,
-        camera: DVec3::ZERO,
-        radius: 0.0,
-        seconds: 0.0,
-    };
-    let mut frame: Option<(DVec3, f32)> = None;
+        })
+        .map_err(|e| worker_failed(e.to_string()))?;
     for chunk in rx {
         let chunk = chunk?;
         report.read += chunk.len() as u64;
         progress.inc(chunk.len() as u64);
-        let (camera, radius) = match frame {
-            Some(f) => f,
-            None => {
-                let f = first_chunk_frame(path, &chunk, options)?;
-                frame = Some(f);
-                f
-            }
-        };
-        let (scene, dropped) = chunk_scene(chunk, camera, options.up, radius);
+        let (scene, dropped) = plan.chunk_scene(chunk);
         report.dropped += dropped;
         report.drawn += scene.len() as u64;
         if !scene.is_empty() {
             sink.draw(&scene)?;
         }
     }
-    let _ = worker.join();
-    let (camera, radius) = frame.ok_or_else(|| LoadError::NoPoints {
-        path: path.to_path_buf(),
-    })?;
-    report.camera = camera;
-    report.radius = radius;
-    report.seconds = started.elapsed().as_secs_f64();
-    Ok(report)
-}
-
-/// Camera and radius decided on the first chunk.
-fn first_chunk_frame(
-    path: &Path,
-    chunk: &PointChunk,
-    options: &StreamOptions,
-) -> anyhow::Result<(DVec3, f32)> {
-    let probe_origin = chunk
-        .positions
-        .iter()
-        .map(|p| options.up.to_world(*p))
-        .find(|p| p.is_finite())
-        .ok_or_else(|| LoadError::NoFinitePoints {
-            path: path.to_path_buf(),
-            dropped: chunk.len() as u64,
-        })?;
-    let (scene, _) = chunk_scene(chunk.clone(), probe_origin, options.up, 0.0);
-    let camera = match options.camera {
-        Some(c) => c,
-        None => {
-            probe_origin
-                + crate::placement::auto_camera_position(&scene).ok_or_else(|| {
-                    anyhow::anyhow!("{}: could not place the camera", path.display())
-                })?
+    worker
+        .join()
+        .map_err(|_| worker_failed("it panicked".into()))?;
+    if report.drawn == 0 {
+        return Err(if report.read == 0 {
+            LoadError::NoPoints {
+                path: plan.path.clone(),
+            }
+        } else {
+            LoadError::NoFinitePoints {
+                path: plan.path.clone(),
+                dropped: report.dropped,
+            }
         }
-    };
-    let radius = options
-        .radius
-        .unwrap_or_else(|| crate::radius::auto_radius(&scene));
-    Ok((camera, radius))
+        .into());
+    }
+    Ok(())
 }

@@ -1,0 +1,458 @@
+//! Planning a streamed render from a survey of the whole file: the camera, the sphere radius,
+//! the colour ranges and the 16-bit colour scale are decided once, before any chunk is drawn,
+//! so every chunk is placed, sized and coloured alike.
+//!
+//! A file of at most [`PlanOptions::survey_points`] points is read whole, sequentially, by
+//! [`crate::io::load_scene`]: the decisions are then exactly the in-core path's
+//! (`cli::prepare` + `render::base_colors`) and the cloud is kept for drawing. A larger file
+//! is surveyed in up to [`SURVEY_BLOCKS`] evenly spaced contiguous blocks: contiguous so the
+//! median spacing (auto radius) measures the real local density, not a thinned one; spread
+//! so the sample covers the file's whole extent. The camera's XY centre comes from the
+//! header bounds when the format has trustworthy ones (the sample may miss the edges).
+
+use super::StreamError;
+use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
+use crate::placement;
+use crate::radius::{RadiusChoice, auto_radius};
+use crate::render::{ColorMode, ColorRule};
+use crate::scene::{Attributes, Radii, Scene};
+use glam::DVec3;
+use indicatif::ProgressBar;
+use std::path::{Path, PathBuf};
+
+/// Points read by the survey at most.
+pub const SURVEY_POINTS: usize = 1 << 21;
+
+/// Most blocks the survey reads.
+pub const SURVEY_BLOCKS: usize = 32;
+
+/// Fewest points per survey block when the budget allows: a block must hold whole
+/// neighbourhoods for the spacing it shows to be the local one.
+pub const MIN_BLOCK_POINTS: usize = 4096;
+
+/// Points decoded per read while surveying.
+const READ_POINTS: usize = 65_536;
+
+/// What a plan may be told; the rest is decided from the file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanOptions {
+    /// Camera world position (file coordinates); `None` = automatic.
+    pub camera: Option<DVec3>,
+    /// Sphere radius; `None` = the file's per-point radii when it has them, else auto.
+    pub radius: Option<RadiusChoice>,
+    /// Up axis of the file.
+    pub up: Up,
+    /// Colour mode, resolved on the survey.
+    pub color: ColorMode,
+    /// Points the survey reads at most; files this small are read whole.
+    pub survey_points: usize,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            camera: None,
+            radius: None,
+            up: Up::Z,
+            color: ColorMode::Auto,
+            survey_points: SURVEY_POINTS,
+        }
+    }
+}
+
+/// Everything a stream needs decided before its first chunk.
+#[derive(Debug, Clone)]
+pub struct StreamPlan {
+    /// The file.
+    pub path: PathBuf,
+    /// Point count from the header.
+    pub declared: u64,
+    /// Up axis of the file.
+    pub up: Up,
+    /// Camera world position (given or automatic).
+    pub camera: DVec3,
+    /// Radius for points without their own.
+    pub radius: f32,
+    /// The file's per-point radii are used (no radius was asked for and the file has them).
+    pub keep_file_radii: bool,
+    /// Colour mode with its ranges fixed on the survey (heights relative to the camera).
+    pub color: ColorRule,
+    /// How 16-bit colour becomes 8-bit, from the survey's largest channel value.
+    pub color_scale: ColorScale,
+    /// Points the survey read.
+    pub surveyed: u64,
+    /// The whole cloud when the survey read every point: relative to `camera`, radii applied,
+    /// unusable points dropped. The stream then draws it without reading the file again.
+    pub whole: Option<Scene>,
+    /// Unusable points (NaN/inf/absurd coordinates) the survey saw.
+    pub dropped: u64,
+}
+
+impl StreamPlan {
+    /// A chunk as a scene relative to the camera, sized by the plan's radius rule; returns it
+    /// and the number of unusable points dropped.
+    pub fn chunk_scene(&self, chunk: io::PointChunk) -> (Scene, u64) {
+        super::chunk_scene(
+            chunk,
+            self.camera,
+            self.up,
+            self.radius,
+            self.keep_file_radii,
+        )
+    }
+}
+
+/// Surveys `path` and decides the camera, radius and colours of a streamed render (see the
+/// module docs). `progress` counts the points surveyed.
+///
+/// # Errors
+/// A [`LoadError`] from reading (also when no point is usable), a colour mode whose attribute
+/// the file lacks, or a camera that cannot be placed automatically.
+pub fn plan(
+    path: &Path,
+    options: &PlanOptions,
+    progress: &ProgressBar,
+) -> Result<StreamPlan, StreamError> {
+    let reader = io::open(path)?;
+    let declared = reader.info().point_count;
+    if declared <= options.survey_points as u64 {
+        drop(reader);
+        plan_whole(path, declared, options, progress)
+    } else {
+        plan_sampled(path, reader, options, progress)
+    }
+}
+
+/// Applies the radius choice as the in-core path does; returns the radius for points without
+/// their own and whether the file's radii are kept.
+fn apply_radius(scene: &mut Scene, choice: Option<RadiusChoice>) -> (f32, bool) {
+    match choice {
+        Some(RadiusChoice::Fixed(r)) => {
+            scene.radii = Radii::Uniform(r);
+            (r, false)
+        }
+        // load_scene gave invalid per-point radii this default.
+        None if matches!(scene.radii, Radii::PerPoint(_)) => {
+            (LoadOptions::default().default_radius, true)
+        }
+        Some(RadiusChoice::Auto) | None => {
+            let r = auto_radius(scene);
+            scene.radii = Radii::Uniform(r);
+            (r, false)
+        }
+    }
+}
+
+/// The whole file read as the in-core path reads it.
+fn plan_whole(
+    path: &Path,
+    declared: u64,
+    options: &PlanOptions,
+    progress: &ProgressBar,
+) -> Result<StreamPlan, StreamError> {
+    let load = LoadOptions {
+        origin: options.camera,
+        up: options.up,
+        ..LoadOptions::default()
+    };
+    let (mut scene, report) = io::load_scene_with_progress(path, &load, progress)?;
+    let camera = placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
+        StreamError::CameraPlacement {
+            path: path.to_path_buf(),
+        }
+    })?;
+    let (radius, keep_file_radii) = apply_radius(&mut scene, options.radius);
+    let color = ColorRule::for_scene(&scene, options.color)?;
+    Ok(StreamPlan {
+        path: path.to_path_buf(),
+        declared,
+        up: options.up,
+        camera,
+        radius,
+        keep_file_radii,
+        color,
+        color_scale: report.color_scale.unwrap_or(ColorScale::Direct8),
+        surveyed: report.points_read,
+        whole: Some(scene),
+        dropped: report.dropped_nonfinite,
+    })
+}
+
+/// `(first point, points)` of the survey blocks: evenly spaced, centred in equal segments of
+/// the file, ascending and disjoint when `declared > survey_points`.
+fn survey_blocks(declared: u64, survey_points: usize) -> Vec<(u64, u64)> {
+    let survey_points = survey_points.max(1);
+    let count = (survey_points / MIN_BLOCK_POINTS).clamp(1, SURVEY_BLOCKS) as u64;
+    let len = (survey_points as u64 / count).min(declared);
+    (0..count)
+        .map(|k| {
+            let mid = ((2 * k + 1) as u128 * declared as u128 / (2 * count) as u128) as u64;
+            (mid.saturating_sub(len / 2).min(declared - len), len)
+        })
+        .collect()
+}
+
+/// Usable points of the survey, world coordinates, with their raw attributes.
+#[derive(Default)]
+struct Sample {
+    world: Vec<DVec3>,
+    rgb: Option<RawRgb>,
+    intensity: Option<Vec<u16>>,
+    classification: Option<Vec<u8>>,
+    radius: Option<Vec<f32>>,
+    read: u64,
+    dropped: u64,
+}
+
+fn keep_into<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
+    if let Some(values) = values {
+        let out = out.get_or_insert_with(Vec::new);
+        out.extend(
+            values
+                .into_iter()
+                .zip(kept)
+                .filter(|(_, k)| **k)
+                .map(|(v, _)| v),
+        );
+    }
+}
+
+impl Sample {
+    fn push(&mut self, raw: RawChunk, up: Up) {
+        self.read += raw.positions.len() as u64;
+        let world: Vec<DVec3> = raw.positions.iter().map(|p| up.to_world(*p)).collect();
+        let kept: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
+        self.dropped += kept.iter().filter(|k| !**k).count() as u64;
+        self.world.extend(
+            world
+                .into_iter()
+                .zip(&kept)
+                .filter(|(_, k)| **k)
+                .map(|(p, _)| p),
+        );
+        match (raw.rgb, &mut self.rgb) {
+            (Some(RawRgb::Bits8(c)), Some(RawRgb::Bits8(acc))) => acc.extend(
+                c.into_iter()
+                    .zip(&kept)
+                    .filter(|(_, k)| **k)
+                    .map(|(c, _)| c),
+            ),
+            (Some(RawRgb::Bits16(c)), Some(RawRgb::Bits16(acc))) => acc.extend(
+                c.into_iter()
+                    .zip(&kept)
+                    .filter(|(_, k)| **k)
+                    .map(|(c, _)| c),
+            ),
+            (Some(RawRgb::Bits8(c)), acc @ None) => {
+                let c = c.into_iter().zip(&kept).filter(|(_, k)| **k);
+                *acc = Some(RawRgb::Bits8(c.map(|(c, _)| c).collect()));
+            }
+            (Some(RawRgb::Bits16(c)), acc @ None) => {
+                let c = c.into_iter().zip(&kept).filter(|(_, k)| **k);
+                *acc = Some(RawRgb::Bits16(c.map(|(c, _)| c).collect()));
+            }
+            // A reader keeps one colour kind per file.
+            _ => {}
+        }
+        keep_into(raw.intensity, &kept, &mut self.intensity);
+        keep_into(raw.classification, &kept, &mut self.classification);
+        keep_into(raw.radius, &kept, &mut self.radius);
+    }
+}
+
+/// Reads the survey blocks; seeks between them, or reads past the gaps when the file cannot
+/// seek (a LAZ file without a chunk table).
+fn survey(
+    path: &Path,
+    mut reader: PointReader,
+    blocks: &[(u64, u64)],
+    up: Up,
+    progress: &ProgressBar,
+) -> Result<Sample, LoadError> {
+    let mut sample = Sample::default();
+    let (mut at, mut seekable) = (0u64, true);
+    'blocks: for &(start, len) in blocks {
+        if start != at && seekable {
+            match reader.seek(start) {
+                Ok(()) => at = start,
+                Err(_) => {
+                    // The reader's position is unknown after a failed seek: start again.
+                    seekable = false;
+                    reader = io::open(path)?;
+                    at = 0;
+                }
+            }
+        }
+        while at < start {
+            let n = (start - at).min(READ_POINTS as u64) as usize;
+            match reader.next_raw(n)? {
+                Some(raw) => at += raw.positions.len() as u64,
+                None => break 'blocks,
+            }
+        }
+        let end = start + len;
+        while at < end {
+            let n = (end - at).min(READ_POINTS as u64) as usize;
+            let Some(raw) = reader.next_raw(n)? else {
+                break 'blocks;
+            };
+            let got = raw.positions.len() as u64;
+            at += got;
+            progress.inc(got);
+            sample.push(raw, up);
+        }
+    }
+    Ok(sample)
+}
+
+/// A large file planned from its survey blocks.
+fn plan_sampled(
+    path: &Path,
+    reader: PointReader,
+    options: &PlanOptions,
+    progress: &ProgressBar,
+) -> Result<StreamPlan, StreamError> {
+    let info = reader.info().clone();
+    let declared = info.point_count;
+    let up = options.up;
+    let blocks = survey_blocks(declared, options.survey_points);
+    progress.set_length(blocks.iter().map(|b| b.1).sum());
+    let sample = survey(path, reader, &blocks, up, progress)?;
+    if sample.world.is_empty() {
+        return Err(if sample.read == 0 {
+            LoadError::NoPoints {
+                path: path.to_path_buf(),
+            }
+        } else {
+            LoadError::NoFinitePoints {
+                path: path.to_path_buf(),
+                dropped: sample.dropped,
+            }
+        }
+        .into());
+    }
+    let (lo, hi) = sample
+        .world
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    // Header bounds are trusted as the cloud's extent only if plausible and the sample lies
+    // inside them (load_scene's test for its origin).
+    let header = info
+        .bounds
+        .map(|(a, b)| {
+            let (a, b) = (up.to_world(a), up.to_world(b));
+            (a.min(b), a.max(b))
+        })
+        .filter(|(blo, bhi)| {
+            io::usable(*blo)
+                && io::usable(*bhi)
+                && (*bhi - *blo).max_element() <= io::MAX_HEADER_EXTENT
+        })
+        .filter(|(blo, bhi)| {
+            let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
+            lo.cmpge(*blo - slack).all() && hi.cmple(*bhi + slack).all()
+        });
+    let (extent_lo, extent_hi) = header.unwrap_or((lo, hi));
+    let origin = (extent_lo + extent_hi) * 0.5;
+
+    let color_scale = sample
+        .rgb
+        .as_ref()
+        .and_then(RawRgb::max_16)
+        .map_or(ColorScale::Direct8, ColorScale::detect_16);
+    let default_radius = LoadOptions::default().default_radius;
+    let radii = match sample.radius {
+        Some(mut r) => {
+            for x in &mut r {
+                if !(x.is_finite() && *x > 0.0) {
+                    *x = default_radius;
+                }
+            }
+            Radii::PerPoint(r)
+        }
+        None => Radii::Uniform(default_radius),
+    };
+    let mut scene = Scene {
+        origin,
+        positions: sample
+            .world
+            .iter()
+            .map(|p| (*p - origin).as_vec3())
+            .collect(),
+        radii,
+        attributes: Attributes {
+            rgb: sample.rgb.map(|c| c.into_u8(color_scale)),
+            intensity: sample.intensity,
+            classification: sample.classification,
+        },
+    };
+    let camera = match options.camera {
+        Some(c) => c,
+        None => {
+            let centre = ((extent_lo + extent_hi) * 0.5 - origin)
+                .truncate()
+                .as_vec2();
+            let extent = (extent_hi - extent_lo).truncate().max_element() as f32;
+            origin
+                + placement::ground_camera_position(&scene, centre, extent).ok_or_else(|| {
+                    StreamError::CameraPlacement {
+                        path: path.to_path_buf(),
+                    }
+                })?
+        }
+    };
+    scene.recenter(camera);
+    let (radius, keep_file_radii) = apply_radius(&mut scene, options.radius);
+    let color = ColorRule::for_scene(&scene, options.color)?;
+    Ok(StreamPlan {
+        path: path.to_path_buf(),
+        declared,
+        up,
+        camera,
+        radius,
+        keep_file_radii,
+        color,
+        color_scale,
+        surveyed: sample.read,
+        whole: None,
+        dropped: sample.dropped,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_are_spread_disjoint_and_inside_the_file() {
+        for (declared, budget) in [
+            (200_000u64, 20_000usize),
+            (50_000_000, SURVEY_POINTS),
+            (5, 4),
+        ] {
+            let blocks = survey_blocks(declared, budget);
+            let total: u64 = blocks.iter().map(|b| b.1).sum();
+            assert!(total <= budget as u64 && total + blocks.len() as u64 > budget as u64);
+            for w in blocks.windows(2) {
+                assert!(w[0].0 + w[0].1 <= w[1].0, "{blocks:?}");
+            }
+            let (first, last) = (blocks[0], blocks[blocks.len() - 1]);
+            assert!(last.0 + last.1 <= declared);
+            // Centred in equal segments: the first starts within one segment of the start,
+            // symmetric to the last's end.
+            let segment = declared / blocks.len() as u64;
+            assert!(first.0 < segment && declared - (last.0 + last.1) < segment);
+            assert!(
+                first.0.abs_diff(declared - (last.0 + last.1)) <= 2,
+                "{blocks:?}"
+            );
+        }
+        assert_eq!(survey_blocks(200_000, 20_000).len(), 4);
+        assert_eq!(
+            survey_blocks(50_000_000, SURVEY_POINTS).len(),
+            SURVEY_BLOCKS
+        );
+    }
+}
