@@ -7,6 +7,7 @@ pub(crate) mod prepare;
 mod progress;
 mod render;
 mod render_guard;
+mod render_stream;
 
 use anyhow::{Context, Result};
 

@@ -9,7 +9,7 @@ use crate::output::{AnaglyphMethod, ImageFormat, Layout};
 use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
-use crate::{Rendered, output, raster, raytrace};
+use crate::{Rendered, output, raytrace};
 
 use super::args::{RenderArgs, StereoArg};
 use super::prepare::{Prepared, prepare};
@@ -35,76 +35,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
 
     crate::cli::render_guard::install_interrupt_handler();
-    crate::cli::render_guard::check_memory(args)?;
 
-    let started = Instant::now();
-    let Prepared {
-        mut scene,
-        camera_world,
-    } = prepare(&args.file, args.camera, args.up, args.radius, say)?;
-
-    let stereo = match args.stereo {
-        StereoArg::None => Stereo::Mono,
-        StereoArg::Ods => Stereo::Ods {
-            ipd: args.ipd,
-            merging: PoleMerging {
-                north: args.pole_merge_north.unwrap_or(args.pole_merge),
-                south: args.pole_merge_south.unwrap_or(args.pole_merge),
-            },
-            offset: args.ods_offset.into(),
-        },
-    };
-    if let Some(how) = args.subsample {
-        let before = scene.len();
-        let camera = crate::projection::Camera::new(DVec3::ZERO, args.yaw);
-        scene = crate::subsample::apply(&scene, how, &camera, Equirect::from_width(args.width));
-        say(format!(
-            "subsample {how:?}: kept {} of {before} points ({:.1}%)",
-            scene.len(),
-            100.0 * scene.len() as f64 / before.max(1) as f64
-        ));
-        crate::cli::render_guard::check_memory_after_subsample(args, &scene)?;
-    }
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
+        // Scenes are centred on the camera: it sits at the local origin.
         camera: Camera::new(DVec3::ZERO, args.yaw),
-        stereo,
+        stereo: stereo(args),
         color: args.color,
         shading: args.shading,
         proxy: args.proxy,
         imposter: args.imposter,
     };
-    say(format!(
-        "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}) loaded in {:.2?}",
-        args.file.display(),
-        scene.len(),
-        match &scene.radii {
-            Radii::Uniform(r) => format!("{r:.4} m"),
-            Radii::PerPoint(_) => "per point".to_string(),
-        },
-        camera_world.x,
-        camera_world.y,
-        camera_world.z,
-        started.elapsed()
-    ));
-
     let render_start = Instant::now();
-    let rendered: Rendered = match args.renderer {
-        RendererKind::Raytrace => {
-            let rows = settings.image.height as u64 * settings.views().len() as u64;
-            let pb = progress::bar(args.quiet, rows, "ray tracing");
-            let r = raytrace::render(&scene, &settings, &pb)?;
-            pb.finish_and_clear();
-            r
-        }
-        RendererKind::Raster => {
-            let rasterizer = raster::Rasterizer::new()?;
-            let pb = progress::bar(args.quiet, scene.len() as u64, "rasterizing");
-            let (r, stats) = rasterizer.render(&scene, &settings, &pb)?;
-            pb.finish_and_clear();
-            say(format!("{} ({})", stats, rasterizer.adapter_name()));
-            r
-        }
+    let rendered = match args.renderer {
+        RendererKind::Raytrace => ray_trace(args, &settings, &say)?,
+        RendererKind::Raster => super::render_stream::rasterize(args, &settings, &say)?,
     };
     say(format!("rendered in {:.2?}", render_start.elapsed()));
 
@@ -128,4 +73,74 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         say(format!("wrote {}", path.display()));
     }
     Ok(())
+}
+
+/// The stereo mode the arguments ask for.
+fn stereo(args: &RenderArgs) -> Stereo {
+    match args.stereo {
+        StereoArg::None => Stereo::Mono,
+        StereoArg::Ods => Stereo::Ods {
+            ipd: args.ipd,
+            merging: PoleMerging {
+                north: args.pole_merge_north.unwrap_or(args.pole_merge),
+                south: args.pole_merge_south.unwrap_or(args.pole_merge),
+            },
+            offset: args.ods_offset.into(),
+        },
+    }
+}
+
+/// The ray tracer needs the whole cloud (and its BVH) in memory: load, subsample, trace.
+fn ray_trace(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    say: &impl Fn(String),
+) -> Result<Rendered> {
+    crate::cli::render_guard::check_memory(args)?;
+    let started = Instant::now();
+    let Prepared {
+        mut scene,
+        camera_world,
+    } = prepare(&args.file, args.camera, args.up, args.radius, say)?;
+    if let Some(how) = args.subsample {
+        let before = scene.len();
+        scene = crate::subsample::apply(&scene, how, &settings.camera, settings.image);
+        say(format!(
+            "subsample {how:?}: kept {} of {before} points ({:.1}%)",
+            scene.len(),
+            100.0 * scene.len() as f64 / before.max(1) as f64
+        ));
+        crate::cli::render_guard::check_memory_after_subsample(args, &scene)?;
+    }
+    say(format!(
+        "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}) loaded in {:.2?}",
+        args.file.display(),
+        scene.len(),
+        match &scene.radii {
+            Radii::Uniform(r) => format!("{r:.4} m"),
+            Radii::PerPoint(_) => "per point".to_string(),
+        },
+        camera_world.x,
+        camera_world.y,
+        camera_world.z,
+        started.elapsed()
+    ));
+    let tracer = raytrace::Tracer::new(&scene)?;
+    let m = tracer.memory();
+    say(format!(
+        "BVH over {} spheres built in {:.2?}: {} resident ({} nodes, {} indices, {} sphere records; \
+         {:.0} bytes a point)",
+        tracer.len(),
+        tracer.build_time(),
+        crate::memory::format_size(m.total() as u64),
+        crate::memory::format_size(m.nodes as u64),
+        crate::memory::format_size(m.primitive_indices as u64),
+        crate::memory::format_size(m.spheres as u64),
+        m.total() as f64 / tracer.len().max(1) as f64
+    ));
+    let rows = settings.image.height as u64 * settings.views().len() as u64;
+    let pb = progress::bar(args.quiet, rows, "ray tracing");
+    let r = raytrace::render_with_tracer(&tracer, &scene, settings, &pb)?;
+    pb.finish_and_clear();
+    Ok(r)
 }

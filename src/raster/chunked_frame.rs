@@ -85,3 +85,9 @@ impl ChunkedFrame<'_> {
         self.frame.finish()
     }
 }
+
+impl crate::stream::ChunkSink for ChunkedFrame<'_> {
+    fn draw(&mut self, chunk: &Scene) -> Result<(), crate::stream::StreamError> {
+        ChunkedFrame::draw(self, chunk).map_err(crate::stream::StreamError::sink)
+    }
+}

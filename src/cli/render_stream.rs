@@ -1,0 +1,133 @@
+//! `render --renderer raster`: the scan is streamed through the GPU in chunks (decoded on a
+//! worker thread while the previous chunk draws) into one frame, so resident memory follows
+//! the chunk size and the image size, not the point count.
+
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+
+use crate::memory;
+use crate::raster::{ChunkedFrame, Rasterizer};
+use crate::render::RenderSettings;
+use crate::scene::Scene;
+use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
+use crate::subsample::{self, Subsample};
+use crate::{Rendered, io::Up};
+
+use super::args::{RenderArgs, UpArg};
+use super::progress;
+
+/// Draws each streamed chunk, thinned first when `--subsample` asks.
+struct RasterSink<'r> {
+    frame: ChunkedFrame<'r>,
+    subsample: Option<Subsample>,
+    settings: RenderSettings,
+    offered: u64,
+}
+
+impl ChunkSink for RasterSink<'_> {
+    fn draw(&mut self, chunk: &Scene) -> Result<(), StreamError> {
+        self.offered += chunk.len() as u64;
+        match self.subsample {
+            // Per chunk: a point hidden by nearer points of its own chunk is hidden in the
+            // whole cloud too, so nothing visible is dropped; N counts within each chunk.
+            Some(how) => {
+                let kept = subsample::apply(chunk, how, &self.settings.camera, self.settings.image);
+                ChunkSink::draw(&mut self.frame, &kept)
+            }
+            None => ChunkSink::draw(&mut self.frame, chunk),
+        }
+    }
+}
+
+/// Streams `args.file` through the GPU rasterizer under `settings` (camera at the origin of
+/// the streamed chunks).
+pub(super) fn rasterize(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    say: &impl Fn(String),
+) -> Result<Rendered> {
+    let eyes = settings.views().len() as u32;
+    let (cap, cap_is_default) = match args.max_memory {
+        Some(c) => (Some(c), false),
+        None => (memory::default_cap(), true),
+    };
+    let chunk_points = match cap {
+        Some(cap) => {
+            memory::raster_chunk_points(&args.file, args.width, eyes, cap, cap_is_default)?
+        }
+        None => stream::DEFAULT_CHUNK_POINTS,
+    };
+
+    let started = Instant::now();
+    let options = PlanOptions {
+        camera: args.camera,
+        radius: args.radius,
+        up: match args.up {
+            UpArg::Z => Up::Z,
+            UpArg::Y => Up::Y,
+        },
+        color: args.color,
+        ..PlanOptions::default()
+    };
+    let pb = progress::bar(args.quiet, 0, "surveying");
+    let plan = stream::plan(&args.file, &options, &pb)?;
+    pb.finish_and_clear();
+    if plan.dropped > 0 {
+        say(format!(
+            "warning: dropped {} points with NaN/inf or absurd coordinates from {}",
+            plan.dropped,
+            args.file.display()
+        ));
+    }
+    say(format!(
+        "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
+        args.file.display(),
+        plan.declared,
+        if plan.keep_file_radii {
+            "per point".to_string()
+        } else {
+            format!("{:.4} m", plan.radius)
+        },
+        plan.camera.x,
+        plan.camera.y,
+        plan.camera.z,
+        if plan.whole.is_some() {
+            "every point".to_string()
+        } else {
+            format!("a sample of {} points", plan.surveyed)
+        },
+        started.elapsed()
+    ));
+
+    // GPU buffers no larger than the file needs.
+    let chunk_points = chunk_points.min(plan.declared.max(1) as usize);
+    let rasterizer = Rasterizer::new()?;
+    let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;
+    let mut sink = RasterSink {
+        frame,
+        subsample: args.subsample,
+        settings: *settings,
+        offered: 0,
+    };
+    let pb = progress::bar(args.quiet, plan.declared, "rasterizing");
+    let report = stream::stream_file(&plan, chunk_points, &mut sink, &pb)
+        .with_context(|| format!("rendering {}", args.file.display()))?;
+    pb.finish_and_clear();
+    let drawn = sink.frame.points();
+    let (rendered, stats, _) = sink.frame.finish()?;
+    say(format!(
+        "streamed {} points in chunks of {chunk_points} ({:.2} M points/s); {stats} ({})",
+        report.read,
+        report.points_per_second() / 1e6,
+        rasterizer.adapter_name()
+    ));
+    if let Some(how) = args.subsample {
+        say(format!(
+            "subsample {how:?}: kept {drawn} of {} points ({:.1}%)",
+            sink.offered,
+            100.0 * drawn as f64 / sink.offered.max(1) as f64
+        ));
+    }
+    Ok(rendered)
+}
