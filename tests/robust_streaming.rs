@@ -123,6 +123,14 @@ fn twenty_million_points_stream_in_bounded_memory() {
         report.camera,
         report.radius
     );
+    // Planned on the whole file: the camera stands over the grid's centre, not the first
+    // chunk's.
+    let centre = DVec3::new(501_000.0, 4_001_000.0, 0.0);
+    assert!(
+        (report.camera - centre).truncate().length() < 20.0,
+        "camera {:?}",
+        report.camera
+    );
     assert_eq!(report.read, points());
     assert_eq!(sink.points, points());
     assert_eq!(report.dropped, 0);

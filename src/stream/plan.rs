@@ -424,6 +424,96 @@ fn plan_sampled(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::args::UpArg;
+    use crate::cli::prepare::prepare;
+    use crate::render::base_colors;
+
+    fn shared(rel: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/data")
+            .join(rel)
+    }
+
+    /// A file small enough to be read whole is planned exactly as the in-core path
+    /// (`cli::prepare` + `base_colors`) would render it: same camera, radii, positions and
+    /// colours.
+    #[test]
+    fn small_files_are_planned_exactly_as_in_core() {
+        let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+        let cases: Vec<(PathBuf, Option<DVec3>, Option<RadiusChoice>, ColorMode)> = vec![
+            (autzen.clone(), None, None, ColorMode::Auto),
+            (autzen.clone(), None, None, ColorMode::Elevation),
+            (
+                autzen,
+                None,
+                Some(RadiusChoice::Fixed(0.3)),
+                ColorMode::Intensity,
+            ),
+            (shared("las/simple.las"), None, None, ColorMode::Auto),
+            (
+                shared("las/simple.laz"),
+                None,
+                Some(RadiusChoice::Auto),
+                ColorMode::Classification,
+            ),
+            (
+                shared("las/simple1_4.las"),
+                None,
+                None,
+                ColorMode::Elevation,
+            ),
+            (
+                shared("las/vegetation_1_3.las"),
+                None,
+                None,
+                ColorMode::Auto,
+            ),
+            (
+                shared("las/1_4_w_evlr.laz"),
+                None,
+                None,
+                ColorMode::Intensity,
+            ),
+            // A given camera: the header bounds' centre, off the ground.
+            (
+                shared("las/vegetation_1_3.las"),
+                Some(DVec3::NAN),
+                None,
+                ColorMode::Elevation,
+            ),
+            (shared("ply/building.ply"), None, None, ColorMode::Auto),
+        ];
+        for (path, camera, radius, color) in cases {
+            let camera = camera.map(|_| {
+                let (lo, hi) = io::open(&path).unwrap().info().bounds.unwrap();
+                (lo + hi) * 0.5 + DVec3::new(0.3, -0.2, 1.0)
+            });
+            let options = PlanOptions {
+                camera,
+                radius,
+                color,
+                ..PlanOptions::default()
+            };
+            let plan = plan(&path, &options, &ProgressBar::hidden()).unwrap();
+            let core = prepare(&path, camera, UpArg::Z, radius, |_| {}).unwrap();
+            let name = path.display();
+            assert_eq!(plan.camera, core.camera_world, "{name}");
+            let whole = plan.whole.as_ref().expect("a small file is read whole");
+            assert_eq!(plan.surveyed, plan.declared, "{name}");
+            assert_eq!(whole.origin, core.scene.origin, "{name}");
+            assert_eq!(whole.positions, core.scene.positions, "{name}");
+            assert_eq!(whole.radii, core.scene.radii, "{name}");
+            match &core.scene.radii {
+                Radii::Uniform(r) => assert!(plan.radius == *r && !plan.keep_file_radii),
+                Radii::PerPoint(_) => assert!(plan.keep_file_radii),
+            }
+            assert_eq!(
+                plan.color.colors(whole).unwrap(),
+                base_colors(&core.scene, color).unwrap(),
+                "{name}"
+            );
+        }
+    }
 
     #[test]
     fn blocks_are_spread_disjoint_and_inside_the_file() {
