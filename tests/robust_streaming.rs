@@ -104,7 +104,9 @@ fn twenty_million_points_stream_in_bounded_memory() {
         depth: vec![f32::INFINITY; (image.width * image.height) as usize],
         points: 0,
     };
+    let planning = std::time::Instant::now();
     let plan = plan(&path, &PlanOptions::default(), &ProgressBar::hidden()).unwrap();
+    let planning = planning.elapsed().as_secs_f64();
     let report = stream_file(
         &plan,
         DEFAULT_CHUNK_POINTS,
@@ -114,7 +116,8 @@ fn twenty_million_points_stream_in_bounded_memory() {
     .unwrap();
     let peak = peak_rss();
     eprintln!(
-        "streamed {} points in {:.1} s ({:.2} M points/s); VmHWM {} MB before, {} MB after; camera {:?}, radius {}",
+        "planned on {} points in {planning:.1} s; streamed {} points in {:.1} s ({:.2} M points/s); VmHWM {} MB before, {} MB after; camera {:?}, radius {}",
+        plan.surveyed,
         report.read,
         report.seconds,
         report.points_per_second() / 1e6,

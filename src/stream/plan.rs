@@ -193,7 +193,7 @@ fn survey_blocks(declared: u64, survey_points: usize) -> Vec<(u64, u64)> {
 }
 
 /// Usable points of the survey, world coordinates, with their raw attributes.
-#[derive(Default)]
+#[derive(Debug, Default, PartialEq)]
 struct Sample {
     world: Vec<DVec3>,
     rgb: Option<RawRgb>,
@@ -260,17 +260,18 @@ impl Sample {
     }
 }
 
-/// Reads the survey blocks; seeks between them, or reads past the gaps when the file cannot
-/// seek (a LAZ file without a chunk table).
+/// Reads the survey blocks; seeks between them (when `seekable`), or reads past the gaps
+/// when the file cannot seek (a LAZ file without a chunk table).
 fn survey(
     path: &Path,
     mut reader: PointReader,
     blocks: &[(u64, u64)],
     up: Up,
     progress: &ProgressBar,
+    mut seekable: bool,
 ) -> Result<Sample, LoadError> {
     let mut sample = Sample::default();
-    let (mut at, mut seekable) = (0u64, true);
+    let mut at = 0u64;
     'blocks: for &(start, len) in blocks {
         if start != at && seekable {
             match reader.seek(start) {
@@ -317,7 +318,7 @@ fn plan_sampled(
     let up = options.up;
     let blocks = survey_blocks(declared, options.survey_points);
     progress.set_length(blocks.iter().map(|b| b.1).sum());
-    let sample = survey(path, reader, &blocks, up, progress)?;
+    let sample = survey(path, reader, &blocks, up, progress, true)?;
     if sample.world.is_empty() {
         return Err(if sample.read == 0 {
             LoadError::NoPoints {
@@ -512,6 +513,28 @@ mod tests {
                 base_colors(&core.scene, color).unwrap(),
                 "{name}"
             );
+        }
+    }
+
+    /// Reading past the gaps (the fallback for files that cannot seek) surveys the same
+    /// points as seeking.
+    #[test]
+    fn survey_by_seeking_equals_survey_by_reading_past_gaps() {
+        for path in [
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz"),
+            shared("ply/building.ply"),
+            shared("las/simple1_4.las"),
+        ] {
+            let declared = io::open(&path).unwrap().info().point_count;
+            let blocks = survey_blocks(declared, 9_000);
+            let hidden = ProgressBar::hidden();
+            let read = |seek| {
+                let reader = io::open(&path).unwrap();
+                survey(&path, reader, &blocks, Up::Z, &hidden, seek).unwrap()
+            };
+            let (sought, sequential) = (read(true), read(false));
+            assert_eq!(sought.read, 9_000, "{}", path.display());
+            assert!(sought == sequential, "{}", path.display());
         }
     }
 
