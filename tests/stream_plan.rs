@@ -148,6 +148,34 @@ fn seeking_into_a_truncated_ascii_ply_is_an_error() {
     assert!(c.is_err(), "the file still ends early after point 3");
 }
 
+#[test]
+fn seeking_past_the_data_of_a_truncated_binary_ply_is_an_error() {
+    // A list element before the vertices keeps `open` from checking the vertex count against
+    // the file size: the seek must.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cut.ply");
+    let mut bytes = b"ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list uchar int vertex_indices\nelement vertex 10\nproperty float x\nproperty float y\nproperty float z\nend_header\n".to_vec();
+    bytes.push(1);
+    bytes.extend(0i32.to_le_bytes());
+    for i in 0..4 {
+        for v in [i as f32, 0.0, 0.0] {
+            bytes.extend(v.to_le_bytes());
+        }
+    }
+    std::fs::write(&path, bytes).unwrap();
+    let mut reader = io::open(&path).unwrap();
+    let e = reader.seek(8).unwrap_err();
+    assert!(matches!(e, LoadError::SeekFailed { point: 8, .. }), "{e}");
+    assert!(e.to_string().contains("cut.ply"), "{e}");
+    let mut reader = io::open(&path).unwrap();
+    reader.seek(2).unwrap();
+    let c = reader.chunks_with_scale(2, SCALE).next().unwrap().unwrap();
+    assert_eq!(
+        c.positions,
+        vec![DVec3::new(2.0, 0.0, 0.0), DVec3::new(3.0, 0.0, 0.0)]
+    );
+}
+
 /// Side of the generated grid: 448² = 200,704 points.
 const SIDE: usize = 448;
 /// Points per tile side: files store points in spatially coherent runs, as real scans do.
