@@ -104,7 +104,9 @@ fn twenty_million_points_stream_in_bounded_memory() {
         depth: vec![f32::INFINITY; (image.width * image.height) as usize],
         points: 0,
     };
+    let planning = std::time::Instant::now();
     let plan = plan(&path, &PlanOptions::default(), &ProgressBar::hidden()).unwrap();
+    let planning = planning.elapsed().as_secs_f64();
     let report = stream_file(
         &plan,
         DEFAULT_CHUNK_POINTS,
@@ -114,7 +116,8 @@ fn twenty_million_points_stream_in_bounded_memory() {
     .unwrap();
     let peak = peak_rss();
     eprintln!(
-        "streamed {} points in {:.1} s ({:.2} M points/s); VmHWM {} MB before, {} MB after; camera {:?}, radius {}",
+        "planned on {} points in {planning:.1} s; streamed {} points in {:.1} s ({:.2} M points/s); VmHWM {} MB before, {} MB after; camera {:?}, radius {}",
+        plan.surveyed,
         report.read,
         report.seconds,
         report.points_per_second() / 1e6,
@@ -122,6 +125,14 @@ fn twenty_million_points_stream_in_bounded_memory() {
         peak >> 20,
         report.camera,
         report.radius
+    );
+    // Planned on the whole file: the camera stands over the grid's centre, not the first
+    // chunk's.
+    let centre = DVec3::new(501_000.0, 4_001_000.0, 0.0);
+    assert!(
+        (report.camera - centre).truncate().length() < 20.0,
+        "camera {:?}",
+        report.camera
     );
     assert_eq!(report.read, points());
     assert_eq!(sink.points, points());

@@ -119,6 +119,8 @@ pub(crate) struct PlySource {
     vertex_start: u64,
     /// Bytes per vertex in a binary file without list properties: binary seeks jump.
     record_len: Option<u64>,
+    /// File size, bytes.
+    file_len: u64,
 }
 
 fn scalar_size(t: &ScalarType) -> u64 {
@@ -277,6 +279,7 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         line: String::new(),
         vertex_start,
         record_len,
+        file_len,
     };
     Ok((info, source))
 }
@@ -406,7 +409,15 @@ impl PlySource {
             detail: e.to_string(),
         };
         if let Some(record) = self.record_len {
-            let at = self.vertex_start + point * record;
+            let at = point
+                .checked_mul(record)
+                .and_then(|b| b.checked_add(self.vertex_start))
+                .filter(|at| *at <= self.file_len)
+                .ok_or_else(|| LoadError::SeekFailed {
+                    path: self.path.clone(),
+                    point,
+                    detail: format!("the {}-byte file ends before it", self.file_len),
+                })?;
             self.reader
                 .get_mut()
                 .seek(std::io::SeekFrom::Start(at))

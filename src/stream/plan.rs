@@ -193,7 +193,7 @@ fn survey_blocks(declared: u64, survey_points: usize) -> Vec<(u64, u64)> {
 }
 
 /// Usable points of the survey, world coordinates, with their raw attributes.
-#[derive(Default)]
+#[derive(Debug, Default, PartialEq)]
 struct Sample {
     world: Vec<DVec3>,
     rgb: Option<RawRgb>,
@@ -260,17 +260,18 @@ impl Sample {
     }
 }
 
-/// Reads the survey blocks; seeks between them, or reads past the gaps when the file cannot
-/// seek (a LAZ file without a chunk table).
+/// Reads the survey blocks; seeks between them (when `seekable`), or reads past the gaps
+/// when the file cannot seek (a LAZ file without a chunk table).
 fn survey(
     path: &Path,
     mut reader: PointReader,
     blocks: &[(u64, u64)],
     up: Up,
     progress: &ProgressBar,
+    mut seekable: bool,
 ) -> Result<Sample, LoadError> {
     let mut sample = Sample::default();
-    let (mut at, mut seekable) = (0u64, true);
+    let mut at = 0u64;
     'blocks: for &(start, len) in blocks {
         if start != at && seekable {
             match reader.seek(start) {
@@ -317,7 +318,7 @@ fn plan_sampled(
     let up = options.up;
     let blocks = survey_blocks(declared, options.survey_points);
     progress.set_length(blocks.iter().map(|b| b.1).sum());
-    let sample = survey(path, reader, &blocks, up, progress)?;
+    let sample = survey(path, reader, &blocks, up, progress, true)?;
     if sample.world.is_empty() {
         return Err(if sample.read == 0 {
             LoadError::NoPoints {
@@ -424,6 +425,118 @@ fn plan_sampled(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cli::args::UpArg;
+    use crate::cli::prepare::prepare;
+    use crate::render::base_colors;
+
+    fn shared(rel: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/data")
+            .join(rel)
+    }
+
+    /// A file small enough to be read whole is planned exactly as the in-core path
+    /// (`cli::prepare` + `base_colors`) would render it: same camera, radii, positions and
+    /// colours.
+    #[test]
+    fn small_files_are_planned_exactly_as_in_core() {
+        let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+        let cases: Vec<(PathBuf, Option<DVec3>, Option<RadiusChoice>, ColorMode)> = vec![
+            (autzen.clone(), None, None, ColorMode::Auto),
+            (autzen.clone(), None, None, ColorMode::Elevation),
+            (
+                autzen,
+                None,
+                Some(RadiusChoice::Fixed(0.3)),
+                ColorMode::Intensity,
+            ),
+            (shared("las/simple.las"), None, None, ColorMode::Auto),
+            (
+                shared("las/simple.laz"),
+                None,
+                Some(RadiusChoice::Auto),
+                ColorMode::Classification,
+            ),
+            (
+                shared("las/simple1_4.las"),
+                None,
+                None,
+                ColorMode::Elevation,
+            ),
+            (
+                shared("las/vegetation_1_3.las"),
+                None,
+                None,
+                ColorMode::Auto,
+            ),
+            (
+                shared("las/1_4_w_evlr.laz"),
+                None,
+                None,
+                ColorMode::Intensity,
+            ),
+            // A given camera: the header bounds' centre, off the ground.
+            (
+                shared("las/vegetation_1_3.las"),
+                Some(DVec3::NAN),
+                None,
+                ColorMode::Elevation,
+            ),
+            (shared("ply/building.ply"), None, None, ColorMode::Auto),
+        ];
+        for (path, camera, radius, color) in cases {
+            let camera = camera.map(|_| {
+                let (lo, hi) = io::open(&path).unwrap().info().bounds.unwrap();
+                (lo + hi) * 0.5 + DVec3::new(0.3, -0.2, 1.0)
+            });
+            let options = PlanOptions {
+                camera,
+                radius,
+                color,
+                ..PlanOptions::default()
+            };
+            let plan = plan(&path, &options, &ProgressBar::hidden()).unwrap();
+            let core = prepare(&path, camera, UpArg::Z, radius, |_| {}).unwrap();
+            let name = path.display();
+            assert_eq!(plan.camera, core.camera_world, "{name}");
+            let whole = plan.whole.as_ref().expect("a small file is read whole");
+            assert_eq!(plan.surveyed, plan.declared, "{name}");
+            assert_eq!(whole.origin, core.scene.origin, "{name}");
+            assert_eq!(whole.positions, core.scene.positions, "{name}");
+            assert_eq!(whole.radii, core.scene.radii, "{name}");
+            match &core.scene.radii {
+                Radii::Uniform(r) => assert!(plan.radius == *r && !plan.keep_file_radii),
+                Radii::PerPoint(_) => assert!(plan.keep_file_radii),
+            }
+            assert_eq!(
+                plan.color.colors(whole).unwrap(),
+                base_colors(&core.scene, color).unwrap(),
+                "{name}"
+            );
+        }
+    }
+
+    /// Reading past the gaps (the fallback for files that cannot seek) surveys the same
+    /// points as seeking.
+    #[test]
+    fn survey_by_seeking_equals_survey_by_reading_past_gaps() {
+        for path in [
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz"),
+            shared("ply/building.ply"),
+            shared("las/simple1_4.las"),
+        ] {
+            let declared = io::open(&path).unwrap().info().point_count;
+            let blocks = survey_blocks(declared, 9_000);
+            let hidden = ProgressBar::hidden();
+            let read = |seek| {
+                let reader = io::open(&path).unwrap();
+                survey(&path, reader, &blocks, Up::Z, &hidden, seek).unwrap()
+            };
+            let (sought, sequential) = (read(true), read(false));
+            assert_eq!(sought.read, 9_000, "{}", path.display());
+            assert!(sought == sequential, "{}", path.display());
+        }
+    }
 
     #[test]
     fn blocks_are_spread_disjoint_and_inside_the_file() {
