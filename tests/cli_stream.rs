@@ -1,0 +1,147 @@
+//! `omnicloud render` on the streamed raster path, as a user runs it: what it prints, what it
+//! refuses before starting, and what an interrupt leaves behind.
+
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+fn omnicloud(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// True (after a loud message) when the render failed only for want of a GPU adapter outside
+/// CI; in CI that is a failure.
+fn no_adapter(out: &Output) -> bool {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if !out.status.success() && stderr.contains("no GPU adapter") {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI needs a GPU adapter: {stderr}"
+        );
+        eprintln!("\n!!!!!!!! SKIPPED: no GPU adapter (install mesa-vulkan-drivers) !!!!!!!!\n");
+        return true;
+    }
+    false
+}
+
+#[test]
+fn the_sample_streams_through_the_rasterizer_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("autzen.png");
+    let out = omnicloud(&[
+        "render",
+        "data/autzen_trim.laz",
+        "-o",
+        png.to_str().unwrap(),
+        "--width",
+        "512",
+    ]);
+    if no_adapter(&out) {
+        return;
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("110000 points"), "{stderr}");
+    assert!(stderr.contains("planned from every point"), "{stderr}");
+    assert!(stderr.contains("streamed 110000 points"), "{stderr}");
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (512, 256));
+}
+
+#[test]
+fn subsampling_while_streaming_reports_what_it_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("thin.png");
+    let out = omnicloud(&[
+        "render",
+        "data/autzen_trim.laz",
+        "-o",
+        png.to_str().unwrap(),
+        "--width",
+        "512",
+        "--subsample",
+        "4",
+    ]);
+    if no_adapter(&out) {
+        return;
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("kept 27500 of 110000 points (25.0%)"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn a_frame_over_the_memory_cap_is_refused_before_anything_is_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("big.png");
+    let out = omnicloud(&[
+        "render",
+        "data/autzen_trim.laz",
+        "-o",
+        png.to_str().unwrap(),
+        "--width",
+        "3840",
+        "--stereo",
+        "ods",
+        "--max-memory",
+        "200M",
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    for needle in [
+        "autzen_trim.laz",
+        "3840",
+        "stereo",
+        "200.0 MiB",
+        "--width",
+        "--max-memory",
+    ] {
+        assert!(stderr.contains(needle), "{needle}: {stderr}");
+    }
+    assert!(!stderr.contains("streamed"), "{stderr}");
+    assert!(!png.exists());
+}
+
+#[test]
+fn sigint_mid_stream_leaves_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let las = dir.path().join("ground.las");
+    omnicloud::synthetic::write_ground_las(&las, 3_000_000, &indicatif::ProgressBar::hidden())
+        .unwrap();
+    let out_dir = dir.path().join("out");
+    std::fs::create_dir(&out_dir).unwrap();
+    let png = out_dir.join("pano.png");
+    let child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args(["render", "--width", "2048", "--stereo", "ods", "-q"])
+        .arg(&las)
+        .arg("-o")
+        .arg(&png)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(2500));
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let output = child.wait_with_output().unwrap();
+    if no_adapter(&output) {
+        return;
+    }
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    // Either it was interrupted mid-stream, or (a fast GPU) it had finished: never half a file.
+    match output.status.code() {
+        Some(130) => {
+            assert!(stderr.contains("interrupted"), "{stderr}");
+            let left: Vec<_> = std::fs::read_dir(&out_dir).unwrap().collect();
+            assert!(left.is_empty(), "left behind: {left:?}");
+        }
+        Some(0) => assert!(image::open(&png).is_ok()),
+        other => panic!("exit {other:?}: {stderr}"),
+    }
+}
