@@ -321,3 +321,48 @@ fn non_finite_points_are_dropped_and_counted() {
         other => panic!("{other}"),
     }
 }
+
+/// Found by the mutation harness: a binary PLY declaring four billion zero-byte `face` records
+/// before its vertices took 30 s to skip them one by one; fixed-size records are now skipped in
+/// one seek, checked against the file's length.
+#[test]
+fn billions_of_records_before_the_vertices_are_skipped_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let vertices: Vec<u8> = (0..3u32)
+        .flat_map(|k| [k as f32, 0.0, 1.0].into_iter().flat_map(f32::to_be_bytes))
+        .collect();
+    for (face, expect_points) in [
+        // Zero bytes each: nothing to skip, the vertices follow.
+        ("element face 4294967295\n", true),
+        // Four bytes each: far more than the file holds.
+        ("element face 4294967295\nproperty int n\n", false),
+    ] {
+        let mut bytes = format!(
+            "ply\nformat binary_big_endian 1.0\n{face}element vertex 3\nproperty float x\nproperty float y\nproperty float z\nend_header\n"
+        )
+        .into_bytes();
+        bytes.extend(&vertices);
+        let path = write(&dir, "faces_first.ply", &bytes);
+        let started = std::time::Instant::now();
+        let result = io::load_scene(&path, &LoadOptions::default());
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(2),
+            "took {:?}",
+            started.elapsed()
+        );
+        match result {
+            Ok((scene, _)) => {
+                assert!(expect_points, "loaded {} points", scene.len());
+                assert_eq!(scene.len(), 3);
+            }
+            Err(e) => {
+                assert!(!expect_points, "{e}");
+                let text = e.to_string();
+                assert!(
+                    text.contains("faces_first.ply") && text.contains("face"),
+                    "{text}"
+                );
+            }
+        }
+    }
+}

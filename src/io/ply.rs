@@ -290,6 +290,33 @@ fn skip_element(
     def: &ElementDef,
     encoding: Encoding,
 ) -> Result<(), LoadError> {
+    // Fixed-size binary records are skipped in one seek: a header may declare billions of
+    // them (even of zero bytes), which one by one would take minutes.
+    if let Some(record) = fixed_record_len(def).filter(|_| encoding != Encoding::Ascii) {
+        let bytes = record.saturating_mul(def.count as u64);
+        let file = reader.get_mut();
+        let here = file
+            .stream_position()
+            .map_err(|e| LoadError::from_io(path, e))?;
+        let len = file
+            .get_ref()
+            .metadata()
+            .map_err(|e| LoadError::from_io(path, e))?
+            .len();
+        if bytes > len.saturating_sub(here) {
+            return Err(LoadError::CorruptHeader {
+                path: path.to_path_buf(),
+                format: "PLY",
+                detail: format!(
+                    "element '{}' stored before 'vertex' declares {} records of {record} bytes, more than the file holds",
+                    def.name, def.count
+                ),
+            });
+        }
+        file.seek_relative(bytes as i64)
+            .map_err(|e| LoadError::from_io(path, e))?;
+        return Ok(());
+    }
     let skipper = Parser::<Skip>::new();
     let mut line = String::new();
     for _ in 0..def.count {
