@@ -87,15 +87,21 @@ pub fn raytrace_estimate_for(
 
 /// Resident bytes per pixel and eye of a streamed raster render. On a software adapter the
 /// GPU's textures and buffers are host memory, so they count: colour 4 + distance 4 + depth 4
-/// textures, splat keys 8, read-back staging 8, the frame read back 8, and the output
-/// conversion (top-bottom copy and encoder buffers) ~12.
-pub const RASTER_BYTES_PER_PIXEL: u64 = 48;
+/// textures, splat keys 8 (one buffer for both eyes), the frame read back 8, and transient
+/// read-back staging and output encoding. Measured: 27 bytes (mono) and 23 more per second
+/// eye at 3840×1920 (Autzen, `/usr/bin/time -v`); 32 keeps a margin.
+pub const RASTER_BYTES_PER_PIXEL: u64 = 32;
 
-/// Resident bytes per point of the stream's chunk size: decoded chunks (~40 bytes a point as
-/// f64 positions and raw attributes) waiting in the channel, being decoded and being drawn
-/// (4 chunks), the chunk as a scene 20, GPU point and colour buffers with their upload
-/// staging 40, and the proxies' vertex buffer (12 vertices of 16 bytes, at most 128 MiB).
-pub const RASTER_BYTES_PER_CHUNK_POINT: u64 = 4 * 40 + 20 + 40;
+/// Resident bytes per point of the stream's chunk size, while streaming: decoded chunks (raw
+/// and converted, ~40 bytes a point each as f64 positions and attributes) waiting in the
+/// channel and being decoded, the chunk as a scene, its colours, the packed GPU upload and its
+/// staging copy, and what the allocator keeps between chunks. Measured 360 (VmHWM growth
+/// while streaming 20 M points in chunks of 512 Ki, `tests/stream_raster_big.rs`).
+pub const RASTER_BYTES_PER_CHUNK_POINT: u64 = 384;
+
+/// Fixed overhead of a rasterizing process: the Vulkan driver (llvmpipe measured ~160 MB with
+/// its compiled pipelines), code and thread stacks.
+pub const RASTER_BASE_BYTES: u64 = 192 << 20;
 
 /// Bytes of the rasterizer's vertex buffer for chunks of `chunk_points` (bounds proxies).
 fn vertex_buffer_bytes(chunk_points: u64) -> u64 {
@@ -111,7 +117,7 @@ pub fn raster_stream_estimate(width: u32, eyes: u32, chunk_points: u64) -> Memor
         points_bytes: chunk_points * RASTER_BYTES_PER_CHUNK_POINT
             + vertex_buffer_bytes(chunk_points),
         image_bytes: pixels * RASTER_BYTES_PER_PIXEL,
-        base_bytes: BASE_BYTES,
+        base_bytes: RASTER_BASE_BYTES,
     }
 }
 
@@ -341,6 +347,9 @@ mod tests {
         let tight = raster_chunk_points(file, 3840, 2, roomy - 1, false).unwrap();
         assert_eq!(tight, full / 2);
         assert!(raster_stream_estimate(3840, 2, tight as u64).total() < roomy);
+        // The target: under 1 GB at 3840×1920 whatever the file's size (no point
+        // count goes in), ODS included.
+        assert!(raster_stream_estimate(3840, 2, full as u64).total() < 1 << 30);
         let e = raster_chunk_points(file, 3840, 2, 300 << 20, true).unwrap_err();
         let text = e.to_string();
         for needle in [

@@ -137,6 +137,11 @@ impl Rasterizer {
         &self.ctx.adapter_name
     }
 
+    /// Widest equirectangular image (pixels per eye) the adapter's textures allow.
+    pub fn max_image_width(&self) -> u32 {
+        self.ctx.limits.max_texture_dimension_2d
+    }
+
     /// True when frame timings come from GPU timestamps.
     pub fn has_timestamps(&self) -> bool {
         self.ctx.timestamps

@@ -26,8 +26,9 @@ use std::time::Instant;
 /// Decoded chunks allowed to wait for the renderer.
 pub const CHANNEL_DEPTH: usize = 2;
 
-/// Points per chunk by default: 1 M points is ~40 MB decoded, ~16 MB on the GPU.
-pub const DEFAULT_CHUNK_POINTS: usize = 1 << 20;
+/// Points per chunk by default: 512 Ki points hold ~190 MB while streaming (see
+/// [`crate::memory::RASTER_BYTES_PER_CHUNK_POINT`]) and fill the GPU well.
+pub const DEFAULT_CHUNK_POINTS: usize = 1 << 19;
 
 /// Receives the chunks, as scenes in the camera's frame (origin = camera world position).
 pub trait ChunkSink {
