@@ -1,30 +1,161 @@
-//! Command lines (NUL-separated arguments) and every option value parser.
+//! Command lines as a user types them: the first byte picks a subcommand prefix, the rest are
+//! NUL-separated arguments. Each value also goes through every value parser; a parsed
+//! `render`/`bench` line goes through the checks and set-up that run before a render
+//! (output names, memory budget, views, pole-merge factors, ray directions).
 #![no_main]
 
 use clap::Parser;
-use omnicloud::cli::{Cli, parse};
+use glam::DVec3;
+use omnicloud::cli::args::{BenchArgs, OdsOffsetArg, RenderArgs, StereoArg};
+use omnicloud::cli::{Cli, Command, parse};
+use omnicloud::projection::{Camera, Equirect, PoleMerging, Stereo};
+use omnicloud::render::RenderSettings;
+
+/// Prefixes the first byte chooses from, so mutations spend their time on the options.
+const PREFIXES: &[&[&str]] = &[
+    &["render", "in.laz", "-o", "out.png"],
+    &["render", "in.ply", "-o", "out.exr", "--stereo", "ods"],
+    &["bench", "scene.laz"],
+    &["compare", "ref.exr", "test.exr"],
+    &["info", "in.las"],
+    &[],
+];
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let Ok(text) = std::str::from_utf8(data) else {
+    let Some((&pick, rest)) = data.split_first() else {
         return;
     };
-    for value in text.split('\0') {
-        let _ = parse::vec3(value);
-        let _ = parse::positive_metres(value);
-        let _ = parse::ipd(value);
-        let _ = parse::degrees(value);
-        let _ = parse::width(value);
-        let _ = parse::radius(value);
-        let _ = parse::pole_merge(value);
-        let _ = parse::proxy(value);
-        let _ = parse::imposter(value);
-        let _ = parse::renderer(value);
-        let _ = parse::color(value);
-        let _ = parse::shading(value);
+    // Arguments are OS strings; clap sees lossy UTF-8 here, as from most shells.
+    let text = String::from_utf8_lossy(rest);
+    let values: Vec<&str> = text.split('\0').collect();
+    for value in &values {
+        every_value_parser(value);
     }
-    let args = std::iter::once("omnicloud").chain(text.split('\0'));
-    if let Ok(cli) = Cli::try_parse_from(args) {
-        // Parsing succeeded: rendering it would touch files, so only format it.
-        let _ = format!("{cli:?}");
+    let prefix = PREFIXES[pick as usize % PREFIXES.len()];
+    let argv = std::iter::once("omnicloud")
+        .chain(prefix.iter().copied())
+        .chain(values.iter().copied());
+    match Cli::try_parse_from(argv) {
+        Ok(cli) => match cli.command {
+            Command::Render(args) => before_render(&args),
+            Command::Bench(args) => before_bench(&args),
+            Command::Compare(_) | Command::Info { .. } => {}
+        },
+        Err(e) => assert!(!e.to_string().is_empty()),
     }
 });
+
+fn every_value_parser(value: &str) {
+    let _ = parse::vec3(value);
+    let _ = parse::positive_metres(value);
+    let _ = parse::ipd(value);
+    let _ = parse::degrees(value);
+    let _ = parse::width(value).map(Equirect::from_width);
+    let _ = parse::radius(value);
+    if let Ok(p) = parse::pole_merge(value) {
+        for k in 0..=180 {
+            let f = p.factor((f64::from(k) * 0.5).to_radians());
+            assert!((0.0..=1.0).contains(&f), "{value}: factor {f}");
+        }
+        let _ = p.full_merge_latitude();
+    }
+    let _ = parse::proxy(value);
+    let _ = parse::imposter(value);
+    let _ = parse::renderer(value);
+    let _ = parse::color(value);
+    let _ = parse::shading(value);
+    if let Ok(size) = omnicloud::memory::parse_size(value) {
+        assert!(size >= 1);
+        let _ = omnicloud::memory::format_size(size);
+    }
+    let _ = omnicloud::subsample::parse(value);
+    if let Ok(mode) = omnicloud::bench::BenchMode::parse(value) {
+        let _ = mode.label();
+    }
+}
+
+/// What `omnicloud render` does with its arguments before touching the input file.
+fn before_render(args: &RenderArgs) {
+    let _ = omnicloud::output::ImageFormat::from_path(&args.output);
+    if let Some(d) = &args.depth {
+        let _ = omnicloud::output::ImageFormat::require(d, omnicloud::output::ImageFormat::Exr);
+    }
+    if let Some(a) = &args.anaglyph {
+        let _ = omnicloud::output::ImageFormat::require(a, omnicloud::output::ImageFormat::Png);
+    }
+    if args.separate_eyes {
+        let _ = omnicloud::output::eye_path(&args.output, "left");
+    }
+    let eyes = if args.stereo == StereoArg::Ods { 2 } else { 1 };
+    // The budget check, for point counts up to the largest a header can declare.
+    for points in [0, 1, 1 << 20, u64::from(u32::MAX), u64::MAX] {
+        let estimate = omnicloud::memory::raytrace_estimate(points, points, args.width, eyes);
+        let cap = args.max_memory.unwrap_or(1 << 30);
+        let _ = omnicloud::memory::check_budget(&args.file, &estimate, cap, false);
+    }
+    let stereo = match args.stereo {
+        StereoArg::None => Stereo::Mono,
+        StereoArg::Ods => Stereo::Ods {
+            ipd: args.ipd,
+            merging: PoleMerging {
+                north: args.pole_merge_north.unwrap_or(args.pole_merge),
+                south: args.pole_merge_south.unwrap_or(args.pole_merge),
+            },
+            offset: match args.ods_offset {
+                OdsOffsetArg::Exact => omnicloud::projection::OdsOffset::Exact,
+                OdsOffsetArg::Paper => omnicloud::projection::OdsOffset::Paper,
+            },
+        },
+    };
+    let settings = RenderSettings {
+        image: Equirect::from_width(args.width),
+        camera: Camera::new(args.camera.unwrap_or(DVec3::ZERO), args.yaw),
+        stereo,
+        color: args.color,
+        shading: args.shading,
+        proxy: args.proxy,
+        imposter: args.imposter,
+    };
+    check_views(&settings);
+}
+
+/// What `omnicloud bench` builds from its arguments before loading the scene.
+fn before_bench(args: &BenchArgs) {
+    let stereo = match args.stereo {
+        Some(StereoArg::Ods) => Stereo::Ods {
+            ipd: args.ipd,
+            merging: PoleMerging::both(args.pole_merge),
+            offset: omnicloud::projection::OdsOffset::Exact,
+        },
+        _ => Stereo::Mono,
+    };
+    let mut settings = RenderSettings::new(
+        args.width.unwrap_or(1920),
+        Camera::new(args.camera.unwrap_or(DVec3::ZERO), args.yaw),
+    );
+    settings.stereo = stereo;
+    check_views(&settings);
+    if let Some(modes) = &args.modes {
+        for m in modes {
+            let _ = m.label();
+        }
+    }
+}
+
+/// Rays of a grid of pixels are finite unit vectors; projecting a point on each ray gives
+/// finite angles.
+fn check_views(settings: &RenderSettings) {
+    let image = settings.image;
+    for view in settings.views() {
+        for j in (0..image.height).step_by((image.height as usize / 7).max(1)) {
+            for i in (0..image.width).step_by((image.width as usize / 9).max(1)) {
+                let (origin, dir) = view.pixel_ray(&image, i, j);
+                assert!(dir.is_finite() && (dir.length() - 1.0).abs() < 1e-9, "{dir}");
+                let p = origin + 10.0 * dir;
+                if let Some((lam, phi)) = view.project(p) {
+                    assert!(lam.is_finite() && phi.is_finite(), "({i}, {j}): {lam} {phi}");
+                }
+            }
+        }
+    }
+}

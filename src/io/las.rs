@@ -9,6 +9,8 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
+mod laz_chunks;
+
 /// Largest decoded byte buffer per read: 16 MiB, well above 65,536 points of any real format.
 const MAX_CHUNK_BYTES: u64 = 16 << 20;
 
@@ -127,6 +129,19 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
     }
     if let Some(evlr) = raw.evlr {
         check_evlr(path, &mut read, file_len, evlr.start_of_first_evlr)?;
+    }
+    if compressed {
+        let layout = laz_chunks::Layout {
+            file_len,
+            header_size: u64::from(raw.header_size),
+            number_of_vlrs: raw.number_of_variable_length_records,
+            offset_to_point_data: offset,
+            declared_points: raw
+                .large_file
+                .map_or(0, |l| l.number_of_point_records)
+                .max(u64::from(raw.number_of_point_records)),
+        };
+        laz_chunks::check(path, &mut read, &layout)?;
     }
     read.seek(SeekFrom::Start(0))
         .map_err(|e| LoadError::from_io(path, e))?;
