@@ -21,10 +21,9 @@ fn an_image_over_the_texture_limit_is_refused_with_the_limit() {
     let width = (max + 2).next_multiple_of(2);
     let mut s = RenderSettings::new(16, Camera::new(DVec3::ZERO, 0.0));
     s.image = Equirect::from_width(width);
-    let e = raster
-        .render(&one_point(), &s, &ProgressBar::hidden())
-        .err()
-        .expect("an image wider than the adapter allows must fail");
+    let Err(e) = raster.render(&one_point(), &s, &ProgressBar::hidden()) else {
+        panic!("an image wider than the adapter allows must fail")
+    };
     assert!(matches!(e, RasterError::Limit { .. }), "{e:?}");
     let text = e.to_string();
     assert!(
@@ -41,7 +40,9 @@ fn settings_the_rasterizer_cannot_draw_are_refused() {
         width: 64,
         height: 40,
     };
-    let e = raster.begin_frame(&s, 1).err().expect("not 2:1");
+    let Err(e) = raster.begin_frame(&s, 1) else {
+        panic!("not 2:1")
+    };
     assert!(e.to_string().contains("64x40"), "{e}");
 }
 
@@ -54,7 +55,9 @@ fn a_chunk_lacking_the_colour_attribute_is_an_error() {
     coloured.attributes.rgb = Some(vec![[1, 2, 3]]);
     let rule = ColorRule::for_scene(&coloured, ColorMode::Rgb).unwrap();
     let mut frame = raster.begin_chunked(&s, rule, 16).unwrap();
-    let e = frame.draw(&one_point()).err().expect("no RGB in the chunk");
+    let Err(e) = frame.draw(&one_point()) else {
+        panic!("no RGB in the chunk")
+    };
     assert!(e.to_string().contains("RGB"), "{e}");
     frame.draw(&coloured).unwrap();
     let (_, stats, _) = frame.finish().unwrap();
