@@ -6,7 +6,7 @@
 
 use clap::Parser;
 use glam::DVec3;
-use omnicloud::cli::args::{BenchArgs, OdsOffsetArg, RenderArgs, StereoArg};
+use omnicloud::cli::args::{BenchArgs, RenderArgs, StereoArg};
 use omnicloud::cli::{Cli, Command, parse};
 use omnicloud::projection::{Camera, Equirect, PoleMerging, Stereo};
 use omnicloud::render::RenderSettings;
@@ -93,24 +93,13 @@ fn before_render(args: &RenderArgs) {
         let cap = args.max_memory.unwrap_or(1 << 30);
         let _ = omnicloud::memory::check_budget(&args.file, &estimate, cap, false);
     }
-    let stereo = match args.stereo {
-        StereoArg::None => Stereo::Mono,
-        StereoArg::Ods => Stereo::Ods {
-            ipd: args.ipd,
-            merging: PoleMerging {
-                north: args.pole_merge_north.unwrap_or(args.pole_merge),
-                south: args.pole_merge_south.unwrap_or(args.pole_merge),
-            },
-            offset: match args.ods_offset {
-                OdsOffsetArg::Exact => omnicloud::projection::OdsOffset::Exact,
-                OdsOffsetArg::Paper => omnicloud::projection::OdsOffset::Paper,
-            },
-        },
-    };
+    // The streamed rasterizer's chunk size under the cap.
+    let cap = args.max_memory.unwrap_or(1 << 30);
+    let _ = omnicloud::memory::raster_chunk_points(&args.file, args.width, eyes, cap, false);
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
         camera: Camera::new(args.camera.unwrap_or(DVec3::ZERO), args.yaw),
-        stereo,
+        stereo: args.stereo_mode(),
         color: args.color,
         shading: args.shading,
         proxy: args.proxy,

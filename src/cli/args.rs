@@ -156,6 +156,24 @@ pub struct RenderArgs {
     pub subsample: Option<crate::subsample::Subsample>,
 }
 
+impl RenderArgs {
+    /// The stereo mode these options ask for (per-pole merging overrides applied).
+    pub fn stereo_mode(&self) -> crate::projection::Stereo {
+        use crate::projection::{PoleMerging, Stereo};
+        match self.stereo {
+            StereoArg::None => Stereo::Mono,
+            StereoArg::Ods => Stereo::Ods {
+                ipd: self.ipd,
+                merging: PoleMerging {
+                    north: self.pole_merge_north.unwrap_or(self.pole_merge),
+                    south: self.pole_merge_south.unwrap_or(self.pole_merge),
+                },
+                offset: self.ods_offset.into(),
+            },
+        }
+    }
+}
+
 /// Options of `omnicloud compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {

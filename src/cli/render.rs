@@ -6,7 +6,7 @@ use anyhow::{Result, bail};
 use glam::DVec3;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout};
-use crate::projection::{Camera, Equirect, PoleMerging, Stereo};
+use crate::projection::{Camera, Equirect};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::{Rendered, output, raytrace};
@@ -40,7 +40,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         image: Equirect::from_width(args.width),
         // Scenes are centred on the camera: it sits at the local origin.
         camera: Camera::new(DVec3::ZERO, args.yaw),
-        stereo: stereo(args),
+        stereo: args.stereo_mode(),
         color: args.color,
         shading: args.shading,
         proxy: args.proxy,
@@ -73,21 +73,6 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         say(format!("wrote {}", path.display()));
     }
     Ok(())
-}
-
-/// The stereo mode the arguments ask for.
-fn stereo(args: &RenderArgs) -> Stereo {
-    match args.stereo {
-        StereoArg::None => Stereo::Mono,
-        StereoArg::Ods => Stereo::Ods {
-            ipd: args.ipd,
-            merging: PoleMerging {
-                north: args.pole_merge_north.unwrap_or(args.pole_merge),
-                south: args.pole_merge_south.unwrap_or(args.pole_merge),
-            },
-            offset: args.ods_offset.into(),
-        },
-    }
 }
 
 /// The ray tracer needs the whole cloud (and its BVH) in memory: load, subsample, trace.

@@ -104,7 +104,8 @@ pub(crate) fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
 }
 
-fn keep<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
+/// Appends to `out` the `values` whose `kept` flag is set (nothing when `values` is `None`).
+pub(crate) fn keep_kept<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
     if let Some(values) = values {
         let out = out.get_or_insert_with(Vec::new);
         out.extend(
@@ -235,9 +236,9 @@ pub fn load_scene_with_progress(
             }
             None => {}
         }
-        keep(chunk_intensity, &kept, &mut intensity);
-        keep(chunk_classification, &kept, &mut classification);
-        keep(chunk_radius, &kept, &mut radius);
+        keep_kept(chunk_intensity, &kept, &mut intensity);
+        keep_kept(chunk_classification, &kept, &mut classification);
+        keep_kept(chunk_radius, &kept, &mut radius);
     }
 
     let points_kept = points_read - dropped;

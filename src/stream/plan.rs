@@ -204,19 +204,6 @@ struct Sample {
     dropped: u64,
 }
 
-fn keep_into<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
-    if let Some(values) = values {
-        let out = out.get_or_insert_with(Vec::new);
-        out.extend(
-            values
-                .into_iter()
-                .zip(kept)
-                .filter(|(_, k)| **k)
-                .map(|(v, _)| v),
-        );
-    }
-}
-
 impl Sample {
     fn push(&mut self, raw: RawChunk, up: Up) {
         self.read += raw.positions.len() as u64;
@@ -254,9 +241,9 @@ impl Sample {
             // A reader keeps one colour kind per file.
             _ => {}
         }
-        keep_into(raw.intensity, &kept, &mut self.intensity);
-        keep_into(raw.classification, &kept, &mut self.classification);
-        keep_into(raw.radius, &kept, &mut self.radius);
+        io::keep_kept(raw.intensity, &kept, &mut self.intensity);
+        io::keep_kept(raw.classification, &kept, &mut self.classification);
+        io::keep_kept(raw.radius, &kept, &mut self.radius);
     }
 }
 
