@@ -83,13 +83,9 @@ pub fn chunk_scene(
         .collect();
     let dropped = keep.iter().filter(|k| !**k).count() as u64;
     fn pick<T: Copy>(v: Option<Vec<T>>, keep: &[bool]) -> Option<Vec<T>> {
-        v.map(|v| {
-            v.into_iter()
-                .zip(keep)
-                .filter(|(_, k)| **k)
-                .map(|(x, _)| x)
-                .collect()
-        })
+        let mut out = None;
+        io::keep_kept(v, keep, &mut out);
+        out
     }
     let positions = chunk
         .positions
@@ -170,29 +166,12 @@ fn draw_whole(
     report.dropped = plan.dropped;
     for start in (0..whole.len()).step_by(chunk_points) {
         let end = (start + chunk_points).min(whole.len());
-        let chunk = Scene {
-            origin: whole.origin,
-            positions: whole.positions[start..end].to_vec(),
-            radii: match &whole.radii {
-                Radii::Uniform(r) => Radii::Uniform(*r),
-                Radii::PerPoint(r) => Radii::PerPoint(r[start..end].to_vec()),
-            },
-            attributes: Attributes {
-                rgb: part(&whole.attributes.rgb, start..end),
-                intensity: part(&whole.attributes.intensity, start..end),
-                classification: part(&whole.attributes.classification, start..end),
-            },
-        };
+        let chunk = whole.range(start..end);
         sink.draw(&chunk)?;
         report.drawn += chunk.len() as u64;
         progress.inc(chunk.len() as u64);
     }
     Ok(())
-}
-
-/// Entries `range` of an optional attribute.
-fn part<T: Clone>(values: &Option<Vec<T>>, range: std::ops::Range<usize>) -> Option<Vec<T>> {
-    values.as_ref().map(|v| v[range].to_vec())
 }
 
 /// Decodes the file on a worker thread and draws each chunk as it arrives.
