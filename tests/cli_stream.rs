@@ -26,22 +26,28 @@ fn no_adapter(out: &Output) -> bool {
     false
 }
 
-#[test]
-fn the_sample_streams_through_the_rasterizer_and_says_so() {
-    let dir = tempfile::tempdir().unwrap();
-    let png = dir.path().join("autzen.png");
-    let out = omnicloud(&[
+/// `omnicloud render` of the bundled sample to `png` with `extra` options; its stderr.
+fn render_sample(png: &std::path::Path, extra: &[&str]) -> (Output, String) {
+    let mut args = vec![
         "render",
         "data/autzen_trim.laz",
         "-o",
         png.to_str().unwrap(),
-        "--width",
-        "512",
-    ]);
+    ];
+    args.extend(extra);
+    let out = omnicloud(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out, stderr)
+}
+
+#[test]
+fn the_sample_streams_through_the_rasterizer_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("autzen.png");
+    let (out, stderr) = render_sample(&png, &["--width", "512"]);
     if no_adapter(&out) {
         return;
     }
-    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("110000 points"), "{stderr}");
     assert!(stderr.contains("planned from every point"), "{stderr}");
@@ -54,20 +60,10 @@ fn the_sample_streams_through_the_rasterizer_and_says_so() {
 fn subsampling_while_streaming_reports_what_it_kept() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("thin.png");
-    let out = omnicloud(&[
-        "render",
-        "data/autzen_trim.laz",
-        "-o",
-        png.to_str().unwrap(),
-        "--width",
-        "512",
-        "--subsample",
-        "4",
-    ]);
+    let (out, stderr) = render_sample(&png, &["--width", "512", "--subsample", "4"]);
     if no_adapter(&out) {
         return;
     }
-    let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(
         stderr.contains("kept 27500 of 110000 points (25.0%)"),
@@ -79,19 +75,10 @@ fn subsampling_while_streaming_reports_what_it_kept() {
 fn a_frame_over_the_memory_cap_is_refused_before_anything_is_read() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("big.png");
-    let out = omnicloud(&[
-        "render",
-        "data/autzen_trim.laz",
-        "-o",
-        png.to_str().unwrap(),
-        "--width",
-        "3840",
-        "--stereo",
-        "ods",
-        "--max-memory",
-        "200M",
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let (out, stderr) = render_sample(
+        &png,
+        &["--width", "3840", "--stereo", "ods", "--max-memory", "200M"],
+    );
     assert!(!out.status.success());
     for needle in [
         "autzen_trim.laz",
