@@ -1,5 +1,6 @@
 //! Writing renders to files: stereo layout, format by extension, depth-only EXR.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
@@ -32,16 +33,21 @@ pub fn eye_path(path: &Path, eye: &str) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// The (file, frame) pairs a render gives under `layout`.
-fn frames_for(path: &Path, rendered: &Rendered, layout: Layout) -> Vec<(PathBuf, Frame)> {
+/// The (file, frame) pairs a render gives under `layout`; only a top-bottom pair is a new
+/// image, the others borrow the rendered frames (no copy of a large panorama).
+fn frames_for<'r>(
+    path: &Path,
+    rendered: &'r Rendered,
+    layout: Layout,
+) -> Vec<(PathBuf, Cow<'r, Frame>)> {
     match (rendered, layout) {
-        (Rendered::Mono(f), _) => vec![(path.to_path_buf(), f.clone())],
+        (Rendered::Mono(f), _) => vec![(path.to_path_buf(), Cow::Borrowed(f))],
         (Rendered::Stereo { .. }, Layout::TopBottom) => {
-            vec![(path.to_path_buf(), rendered.top_bottom())]
+            vec![(path.to_path_buf(), Cow::Owned(rendered.top_bottom()))]
         }
         (Rendered::Stereo { left, right }, Layout::SeparateEyes) => vec![
-            (eye_path(path, "left"), left.clone()),
-            (eye_path(path, "right"), right.clone()),
+            (eye_path(path, "left"), Cow::Borrowed(left)),
+            (eye_path(path, "right"), Cow::Borrowed(right)),
         ],
     }
 }
@@ -49,7 +55,7 @@ fn frames_for(path: &Path, rendered: &Rendered, layout: Layout) -> Vec<(PathBuf,
 /// Stages every file first and renames them only when all were written, so a failure leaves
 /// none of them.
 fn write_frames(
-    files: Vec<(PathBuf, Frame)>,
+    files: Vec<(PathBuf, Cow<'_, Frame>)>,
     write: impl Fn(&Frame, &mut std::io::BufWriter<std::fs::File>, &Path) -> Result<(), OutputError>,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let staged = files
