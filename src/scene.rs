@@ -21,6 +21,22 @@ impl Radii {
         }
     }
 
+    /// Radii as read from a file: its per-point radii when it has them, with `default` for
+    /// any that is not a positive finite number; else `default` for every point.
+    pub fn from_file(radius: Option<Vec<f32>>, default: f32) -> Radii {
+        match radius {
+            Some(mut r) => {
+                for x in &mut r {
+                    if !(x.is_finite() && *x > 0.0) {
+                        *x = default;
+                    }
+                }
+                Radii::PerPoint(r)
+            }
+            None => Radii::Uniform(default),
+        }
+    }
+
     /// Largest radius (0 for an empty per-point list).
     pub fn max(&self) -> f32 {
         match self {

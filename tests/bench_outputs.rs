@@ -1,7 +1,7 @@
 //! `bench` on a small scene: every mode measured, all four outputs written, and the chart is
 //! a real image with one marker per mode.
 
-mod bench_common;
+mod raster_common;
 
 use omnicloud::bench::{
     BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
@@ -10,7 +10,7 @@ use omnicloud::suite::scenes;
 
 #[test]
 fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
-    let Some(raster) = bench_common::rasterizer_or_skip("bench_outputs") else {
+    let Some(raster) = raster_common::rasterizer() else {
         return;
     };
     let suite_scene = scenes::seam();

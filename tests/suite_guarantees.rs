@@ -3,7 +3,7 @@
 //! relative error p99 ≤ 1e-4, unlit colour identical where both hit), and the paper's
 //! untessellated `quad` fails them where the suite says it should (poles, seam).
 
-mod bench_common;
+mod raster_common;
 
 use std::path::Path;
 
@@ -46,7 +46,7 @@ fn worst_quad(report: &SuiteReport, tag: &str) -> (f64, String) {
 
 #[test]
 fn bounds_raycast_is_exact_and_quad_fails_at_poles_and_seam() {
-    if bench_common::rasterizer_or_skip("suite_guarantees").is_none() {
+    if raster_common::rasterizer().is_none() {
         return;
     }
     let config = BenchConfig {

@@ -274,18 +274,7 @@ pub fn load_scene_with_progress(
             (Some(raw.into_u8(scale)), Some(scale))
         }
     };
-    let default_radius = options.default_radius;
-    let radii = match radius {
-        Some(mut r) => {
-            for x in &mut r {
-                if !(x.is_finite() && *x > 0.0) {
-                    *x = default_radius;
-                }
-            }
-            Radii::PerPoint(r)
-        }
-        None => Radii::Uniform(default_radius),
-    };
+    let radii = Radii::from_file(radius, options.default_radius);
     let scene = Scene {
         origin,
         positions,

@@ -95,17 +95,7 @@ pub fn chunk_scene(
         .map(|(p, _)| (up.to_world(*p) - origin).as_vec3())
         .collect();
     let file_radii = chunk.radius.filter(|_| keep_file_radii);
-    let radii = match pick(file_radii, &keep) {
-        Some(mut r) => {
-            for x in &mut r {
-                if !(x.is_finite() && *x > 0.0) {
-                    *x = radius;
-                }
-            }
-            Radii::PerPoint(r)
-        }
-        None => Radii::Uniform(radius),
-    };
+    let radii = Radii::from_file(pick(file_radii, &keep), radius);
     let scene = Scene {
         origin,
         positions,
