@@ -1,14 +1,18 @@
-//! Camera model, equirectangular mapping, pole merging and the ODS ray (DESIGN §1–4).
+//! Camera model, equirectangular mapping, pole merging, the ODS ray (DESIGN §1–4) and the
+//! bounding box of a sphere's image (`docs/SPHERE_BOUNDS.md`).
 //!
 //! Everything here is f64 and exact: the reference that the WGSL in `shaders/` mirrors
-//! file for file (`camera.wgsl`, `equirect.wgsl`, `pole_merge.wgsl`, `ods.wgsl`).
+//! file for file (`camera.wgsl`, `equirect.wgsl`, `pole_merge.wgsl`, `ods.wgsl`,
+//! `sphere_bounds.wgsl`).
 
 pub mod camera;
 pub mod equirect;
 pub mod ods;
 pub mod pole_merge;
+pub mod sphere_bounds;
 
 pub use camera::Camera;
 pub use equirect::Equirect;
 pub use ods::{Eye, OdsOffset, Stereo, View};
 pub use pole_merge::{PoleMerge, PoleMerging};
+pub use sphere_bounds::{Bounds, Rect, cap_rect, sphere_bounds};

@@ -1,0 +1,231 @@
+//! The longitude/latitude box of a sphere's image in one view: every `(lam, phi)` whose ray
+//! (DESIGN §3) hits the sphere lies in it. The f64 twin of `shaders/sphere_bounds.wgsl`
+//! (same names, same branches); the derivation is in `docs/SPHERE_BOUNDS.md`.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+use glam::{DVec2, DVec3};
+
+use super::camera::Basis;
+use super::ods::View;
+
+/// Relative slack of the "ball meets the vertical axis" test in [`cap_rect`]: a ball this
+/// close to the axis gets the band to the pole (its longitude half-width `asin(radius/rho)`
+/// is ill-conditioned in f32 there).
+pub const AXIS_SLACK: f64 = 1e-4;
+/// Relative slack of the "eye may lie in the ball" test in [`sphere_bounds`].
+pub const ENCLOSE_SLACK: f64 = 1e-5;
+/// Relative slack of the "ball meets the viewing cylinder" test in [`sphere_bounds`].
+pub const CYLINDER_SLACK: f64 = 1e-3;
+/// Absolute slack (metres) of both tests in [`sphere_bounds`].
+pub const ABSOLUTE_SLACK: f64 = 1e-6;
+
+/// A `(lam, phi)` box: `lo` and `hi` corners, `x` longitude, `y` latitude. The longitude is
+/// unwrapped: `lo.x` and `hi.x` may leave `[-pi, pi)`, the box covering `[lo.x, hi.x]`
+/// modulo `2 pi`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rect {
+    /// `(lam, phi)` of the low corner.
+    pub lo: DVec2,
+    /// `(lam, phi)` of the high corner.
+    pub hi: DVec2,
+}
+
+impl Rect {
+    /// Every direction: longitude `[-pi, pi]`, latitude `[-pi/2, pi/2]`.
+    pub fn full() -> Self {
+        Rect {
+            lo: DVec2::new(-PI, -FRAC_PI_2),
+            hi: DVec2::new(PI, FRAC_PI_2),
+        }
+    }
+
+    /// Whether `(lam, phi)` lies in the box, longitude taken modulo `2 pi`.
+    pub fn contains(&self, lam: f64, phi: f64) -> bool {
+        if phi < self.lo.y || phi > self.hi.y {
+            return false;
+        }
+        let width = self.hi.x - self.lo.x;
+        if width >= TAU {
+            return true;
+        }
+        (lam - self.lo.x).rem_euclid(TAU) <= width
+    }
+}
+
+/// [`sphere_bounds`]' answer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bounds {
+    /// The box.
+    pub rect: Rect,
+    /// The box is not the tight image of the sphere (the eye may lie in it, the ball meets
+    /// the viewing cylinder, or it spans every longitude): the rasterizer ray-casts such
+    /// spheres whatever its imposter mode.
+    pub special: bool,
+}
+
+/// Pole-merge factor of `v` at latitude `phi`.
+fn merge(v: &View, phi: f64) -> f64 {
+    v.merging.factor(phi)
+}
+
+/// Longitude/latitude box of the cone of directions from C to a ball of `radius` around `s`
+/// (relative to C, `|s| > radius`): latitude `phi +- asin(radius/|s|)`, longitude
+/// `+- asin(radius/rho)`; a band to the pole when the ball meets the vertical axis
+/// (`radius >= rho`, with [`AXIS_SLACK`]).
+pub fn cap_rect(b: &Basis, s: DVec3, radius: f64) -> Rect {
+    let x = s.dot(b.right);
+    let y = s.dot(b.forward);
+    let z = s.dot(b.up);
+    let rho = x.hypot(y);
+    let d = s.length();
+    let a = (radius / d).min(1.0).asin();
+    let phi = z.atan2(rho);
+    if radius >= rho * (1.0 - AXIS_SLACK) {
+        return if z > 0.0 {
+            Rect {
+                lo: DVec2::new(-PI, phi - a),
+                hi: DVec2::new(PI, FRAC_PI_2),
+            }
+        } else {
+            Rect {
+                lo: DVec2::new(-PI, -FRAC_PI_2),
+                hi: DVec2::new(PI, phi + a),
+            }
+        };
+    }
+    let lam = x.atan2(y);
+    let half = (radius / rho).asin();
+    Rect {
+        lo: DVec2::new(lam - half, phi - a),
+        hi: DVec2::new(lam + half, phi + a),
+    }
+}
+
+/// Conservative box of every `(lam, phi)` whose ray (view `v`) hits the sphere (`s`
+/// relative to C, `radius`).
+///
+/// Exact-inverse argument: a hit `X` projects to its pixel,
+/// `lam(X) = lamC(X) - e asin(r/rho(X))`, `tan phi(X) = k tan phiC(X)` with
+/// `k = rho / sqrt(rho^2 - r^2)`; bound each factor over the ball.
+pub fn sphere_bounds(v: &View, s: DVec3, radius: f64) -> Bounds {
+    let d = s.length();
+    let h = if v.eye_sign != 0.0 { v.half_ipd } else { 0.0 };
+    if d <= (radius + h) * (1.0 + ENCLOSE_SLACK) + ABSOLUTE_SLACK {
+        return Bounds {
+            rect: Rect::full(),
+            special: true,
+        };
+    }
+    let b = v.basis();
+    let rho = s.dot(b.right).hypot(s.dot(b.forward));
+    if h == 0.0 || rho - radius <= h * (1.0 + CYLINDER_SLACK) + ABSOLUTE_SLACK {
+        // Every ray origin lies within h of C: hit directions lie in the cone of the ball of
+        // radius + h.
+        let c = cap_rect(b, s, radius + h);
+        return Bounds {
+            rect: c,
+            special: h > 0.0 || c.hi.x - c.lo.x >= TAU,
+        };
+    }
+    let mono = cap_rect(b, s, radius);
+    let rho_min = rho - radius;
+    let rho_max = rho + radius;
+    // merge() does not grow with |phi| and |phi(X)| >= |phiC(X)|: the largest circle radius
+    // is at the mono range's smallest |phi|.
+    let rmax = if mono.lo.y > 0.0 {
+        h * merge(v, mono.lo.y)
+    } else if mono.hi.y < 0.0 {
+        h * merge(v, mono.hi.y)
+    } else {
+        h
+    };
+    let kmax = rho_min / (rho_min * rho_min - rmax * rmax).sqrt();
+    let phi_lo = mono.lo.y.min((kmax * mono.lo.y.tan()).atan());
+    let phi_hi = mono.hi.y.max((kmax * mono.hi.y.tan()).atan());
+    let rmin = h * merge(v, phi_lo).min(merge(v, phi_hi));
+    let o1 = v.eye_sign * (rmin / rho_max).asin();
+    let o2 = v.eye_sign * (rmax / rho_min).asin();
+    let lam_lo = mono.lo.x - o1.max(o2);
+    let lam_hi = mono.hi.x - o1.min(o2);
+    Bounds {
+        rect: Rect {
+            lo: DVec2::new(lam_lo, phi_lo),
+            hi: DVec2::new(lam_hi, phi_hi),
+        },
+        special: false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projection::{Camera, Eye, OdsOffset, PoleMerging, Stereo};
+
+    fn right_eye() -> View {
+        let stereo = Stereo::Ods {
+            ipd: 0.064,
+            merging: PoleMerging::OFF,
+            offset: OdsOffset::Exact,
+        };
+        View::eye(Camera::new(DVec3::ZERO, 0.0), &stereo, Eye::Right)
+    }
+
+    #[test]
+    fn contains_wraps_longitude() {
+        let r = Rect {
+            lo: DVec2::new(3.0, -0.1),
+            hi: DVec2::new(3.4, 0.1),
+        };
+        assert!(r.contains(3.2, 0.0));
+        assert!(r.contains(3.3 - TAU, 0.0));
+        assert!(r.contains(-3.0, 0.05));
+        assert!(!r.contains(2.9, 0.0));
+        assert!(!r.contains(-2.8, 0.0));
+        assert!(!r.contains(3.2, 0.2));
+        assert!(Rect::full().contains(-PI, FRAC_PI_2));
+    }
+
+    #[test]
+    fn mono_box_of_a_ball_ahead_is_its_cone() {
+        let v = View::mono(Camera::new(DVec3::ZERO, 0.0));
+        let got = sphere_bounds(&v, DVec3::new(0.0, 10.0, 0.0), 1.0);
+        let a = 0.1f64.asin();
+        assert!(!got.special);
+        assert!((got.rect.lo - DVec2::new(-a, -a)).length() < 1e-15);
+        assert!((got.rect.hi - DVec2::new(a, a)).length() < 1e-15);
+    }
+
+    #[test]
+    fn right_eye_box_is_shifted_left_by_the_offset() {
+        let got = sphere_bounds(&right_eye(), DVec3::new(0.0, 10.0, 0.0), 1.0);
+        assert!(!got.special);
+        let a = 0.1f64.asin();
+        // Offsets asin(r/rho) over rho in [9, 11].
+        assert!((got.rect.lo.x - (-a - (0.032f64 / 9.0).asin())).abs() < 1e-15);
+        assert!((got.rect.hi.x - (a - (0.032f64 / 11.0).asin())).abs() < 1e-15);
+        // Latitude grows by k = rho / sqrt(rho^2 - r^2) at most.
+        assert!(got.rect.hi.y > a && got.rect.hi.y < a * 1.0001);
+    }
+
+    #[test]
+    fn special_cases() {
+        let v = right_eye();
+        // The eye's circle may lie in the ball.
+        assert!(sphere_bounds(&v, DVec3::new(0.0, 0.5, 0.0), 0.48).special);
+        assert_eq!(
+            sphere_bounds(&v, DVec3::new(0.0, 0.5, 0.0), 0.48).rect,
+            Rect::full()
+        );
+        // Over the camera: a band to the north pole, every longitude.
+        let up = sphere_bounds(&v, DVec3::new(0.01, 0.0, 3.0), 0.5);
+        assert!(up.special);
+        assert_eq!(up.rect.hi.y, FRAC_PI_2);
+        assert!(up.rect.hi.x - up.rect.lo.x >= TAU);
+        // Meeting the viewing cylinder, not the axis: special only for an eye.
+        let s = DVec3::new(0.0, 0.2, 1.0);
+        assert!(sphere_bounds(&v, s, 0.18).special);
+        let mono = sphere_bounds(&View::mono(Camera::new(DVec3::ZERO, 0.0)), s, 0.18);
+        assert!(!mono.special && mono.rect.hi.x - mono.rect.lo.x < TAU);
+    }
+}
