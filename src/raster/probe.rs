@@ -1,8 +1,11 @@
 //! A compute kernel over the shared WGSL math (`shaders/probe.wgsl`), so tests can check the
-//! GPU `project`, `ray` and pole merge against the f64 Rust functions.
+//! GPU `project`, `ray`, pole merge, `intersect_sphere`, `shade` and `sphere_bounds` against
+//! the f64 Rust functions.
+
+use bytemuck::{Pod, Zeroable};
 
 use crate::projection::View;
-use crate::render::RenderSettings;
+use crate::render::{RenderSettings, Shading};
 
 use super::error::RasterError;
 use super::params::Params;
@@ -12,6 +15,62 @@ use super::targets::map_read;
 
 /// `shaders/probe.wgsl`.
 pub const PROBE: &str = include_str!("../../shaders/probe.wgsl");
+
+/// vec4 slots the kernel writes per item.
+const OUT_SLOTS: usize = 6;
+
+/// One probe item: the inputs of every function the kernel evaluates. Positions are relative
+/// to the camera centre C, as on the GPU.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ProbeItem {
+    /// Point for `project`.
+    pub point: [f32; 3],
+    /// `(lam, phi)` for `ray` and the merge factor (at `phi`).
+    pub angles: [f32; 2],
+    /// Ray origin for `intersect_sphere`.
+    pub ray_origin: [f32; 3],
+    /// Unit ray direction for `intersect_sphere`.
+    pub ray_dir: [f32; 3],
+    /// Sphere centre and radius for `intersect_sphere` and `sphere_bounds`.
+    pub sphere: [f32; 4],
+    /// `shade` mode.
+    pub shading: Shading,
+    /// `shade` base colour (sRGB).
+    pub base: [u8; 3],
+    /// `shade` unit normal facing the viewer.
+    pub normal: [f32; 3],
+    /// `shade` hit point.
+    pub hit: [f32; 3],
+    /// `shade` eye (the ray's origin).
+    pub eye: [f32; 3],
+}
+
+/// WGSL `ProbeItem` (vec4 slots only).
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ItemSlots([[f32; 4]; 9]);
+
+impl ProbeItem {
+    fn slots(&self) -> ItemSlots {
+        let v = |a: [f32; 3], w: f32| [a[0], a[1], a[2], w];
+        let mode = match self.shading {
+            Shading::Unlit => 0.0,
+            Shading::Phong => 1.0,
+            Shading::Normal => 2.0,
+        };
+        ItemSlots([
+            v(self.point, 0.0),
+            [self.angles[0], self.angles[1], 0.0, 0.0],
+            v(self.ray_origin, 0.0),
+            v(self.ray_dir, 0.0),
+            self.sphere,
+            v(self.base.map(f32::from), mode),
+            v(self.normal, 0.0),
+            v(self.hit, 0.0),
+            v(self.eye, 0.0),
+        ])
+    }
+}
 
 /// What the GPU computed for one probe item.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -24,33 +83,49 @@ pub struct ProbeResult {
     pub ray_origin: [f32; 3],
     /// `ray(lam, phi)`: unit direction.
     pub ray_dir: [f32; 3],
+    /// `intersect_sphere(ray, sphere)`: the hit distance, or `None`.
+    pub hit_t: Option<f32>,
+    /// `shade(...)`: sRGB byte values (as the fragment stage writes them, before `/ 255`).
+    pub shaded: [f32; 3],
+    /// `sphere_bounds(sphere)`: `(lam, phi)` low corner.
+    pub bounds_lo: [f32; 2],
+    /// `sphere_bounds(sphere)`: `(lam, phi)` high corner.
+    pub bounds_hi: [f32; 2],
+    /// `sphere_bounds(sphere)`: the special flag.
+    pub bounds_special: bool,
 }
 
 impl Rasterizer {
-    /// Runs the probe kernel for `view`: projects each of `points` (relative to the camera
-    /// centre) and evaluates the ray and merge factor at each of `angles` (same length).
+    /// Runs the probe kernel for `view` (lights from `settings`' camera) on each of `items`.
     pub fn probe_math(
         &self,
         view: &View,
         settings: &RenderSettings,
-        points: &[[f32; 3]],
-        angles: &[[f32; 2]],
+        items: &[ProbeItem],
     ) -> Result<Vec<ProbeResult>, RasterError> {
-        if points.len() != angles.len() || points.is_empty() {
+        if items.is_empty() {
             return Err(RasterError::Settings(
-                "probe needs as many angles as points, at least one".into(),
+                "probe needs at least one item".into(),
             ));
         }
         let ctx = &self.ctx;
         let device = &ctx.device;
-        let n = points.len();
-        let pts: Vec<[f32; 4]> = points.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect();
+        let n = items.len();
+        let slots: Vec<ItemSlots> = items.iter().map(ProbeItem::slots).collect();
+        let out_bytes = (16 * OUT_SLOTS * n) as u64;
         let params = Params::new(view, settings, 0, (0, n as u32), 0);
         let (pipeline, out, read, bind) = ctx.scoped("running the probe kernel", || {
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("probe.wgsl"),
                 source: wgpu::ShaderSource::Wgsl(
-                    shaders::compose(&[shaders::PARAMS, PROBE]).into(),
+                    shaders::compose(&[
+                        shaders::PARAMS,
+                        shaders::SPHERE_BOUNDS,
+                        shaders::SPHERE,
+                        shaders::SHADING,
+                        PROBE,
+                    ])
+                    .into(),
                 ),
             });
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -73,14 +148,15 @@ impl Rasterizer {
             let params_buf = make("probe params", 176, U::UNIFORM | U::COPY_DST);
             ctx.queue
                 .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
-            let pts_buf = make("probe points", 16 * n as u64, U::STORAGE | U::COPY_DST);
+            let items_buf = make(
+                "probe items",
+                std::mem::size_of_val(slots.as_slice()) as u64,
+                U::STORAGE | U::COPY_DST,
+            );
             ctx.queue
-                .write_buffer(&pts_buf, 0, bytemuck::cast_slice(&pts));
-            let ang_buf = make("probe angles", 8 * n as u64, U::STORAGE | U::COPY_DST);
-            ctx.queue
-                .write_buffer(&ang_buf, 0, bytemuck::cast_slice(angles));
-            let out = make("probe out", 48 * n as u64, U::STORAGE | U::COPY_SRC);
-            let read = make("probe read", 48 * n as u64, U::COPY_DST | U::MAP_READ);
+                .write_buffer(&items_buf, 0, bytemuck::cast_slice(&slots));
+            let out = make("probe out", out_bytes, U::STORAGE | U::COPY_SRC);
+            let read = make("probe read", out_bytes, U::COPY_DST | U::MAP_READ);
             let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("probe"),
                 layout: &pipeline.get_bind_group_layout(0),
@@ -91,14 +167,10 @@ impl Rasterizer {
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
-                        resource: pts_buf.as_entire_binding(),
+                        resource: items_buf.as_entire_binding(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 2,
-                        resource: ang_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
                         resource: out.as_entire_binding(),
                     },
                 ],
@@ -118,12 +190,18 @@ impl Rasterizer {
         let v: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&raw);
         Ok((0..n)
             .map(|i| {
-                let (a, o, d) = (v[3 * i], v[3 * i + 1], v[3 * i + 2]);
+                let s = &v[OUT_SLOTS * i..OUT_SLOTS * (i + 1)];
+                let (a, o, d, c, b) = (s[0], s[1], s[2], s[3], s[4]);
                 ProbeResult {
                     projected: (a[2] != 0.0).then_some((a[0], a[1])),
                     merge: a[3],
                     ray_origin: [o[0], o[1], o[2]],
                     ray_dir: [d[0], d[1], d[2]],
+                    hit_t: (c[3] > 0.0).then_some(c[3]),
+                    shaded: [c[0], c[1], c[2]],
+                    bounds_lo: [b[0], b[1]],
+                    bounds_hi: [b[2], b[3]],
+                    bounds_special: s[5][0] != 0.0,
                 }
             })
             .collect())

@@ -9,6 +9,8 @@ pub const EQUIRECT: &str = include_str!("../../shaders/equirect.wgsl");
 pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
 /// `shaders/ods.wgsl`.
 pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
+/// `shaders/sphere_bounds.wgsl`: the box of a sphere's image.
+pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl");
 /// `shaders/shading.wgsl`.
 pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
 /// `shaders/params.wgsl`: the per-(chunk, eye) uniform.
@@ -39,6 +41,7 @@ pub fn compose(parts: &[&str]) -> String {
 pub fn expand_source(splat: bool) -> String {
     compose(&[
         PARAMS,
+        SPHERE_BOUNDS,
         EXPAND,
         SPHERE,
         if splat { SPLAT } else { SPLAT_OFF },
