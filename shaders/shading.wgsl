@@ -30,8 +30,10 @@ fn linear_to_srgb(l_in: f32) -> f32 {
 }
 
 // Shading modes: 0 unlit, 1 phong, 2 normal. `base` holds sRGB bytes; returns sRGB bytes.
-fn shade(mode: u32, base: vec3<f32>, normal: vec3<f32>, hit: vec3<f32>, eye: vec3<f32>,
+// `normal_in` faces the viewer and is normalised here, as in the Rust shade().
+fn shade(mode: u32, base: vec3<f32>, normal_in: vec3<f32>, hit: vec3<f32>, eye: vec3<f32>,
          l0: Light, l1: Light) -> vec3<f32> {
+    let normal = normalize_or_zero(normal_in);
     if mode == 2u {
         return floor((normal * 0.5 + 0.5) * 255.0 + 0.5);
     }

@@ -76,8 +76,10 @@ pub fn linear_to_srgb(l: f32) -> u8 {
     (c * 255.0 + 0.5) as u8
 }
 
-/// Colour of a hit: `normal` is the unit surface normal facing the viewer, `hit` the hit
-/// point and `eye` the ray's origin, all in the scene's local frame.
+/// Colour of a hit: `normal` is the surface normal facing the viewer, `hit` the hit point and
+/// `eye` the ray's origin, all in the scene's local frame. The normal is normalised here: the
+/// rasterizer's f32 normal is unit only to rounding, and both renderers must light the same
+/// vector.
 pub fn shade(
     mode: Shading,
     base: [u8; 3],
@@ -86,6 +88,7 @@ pub fn shade(
     eye: Vec3,
     lights: &[Light; 2],
 ) -> [u8; 3] {
+    let normal = normal.normalize_or_zero();
     match mode {
         Shading::Unlit => base,
         Shading::Normal => normal
