@@ -10,5 +10,5 @@ pub mod pole_merge;
 
 pub use camera::Camera;
 pub use equirect::Equirect;
-pub use ods::{Eye, OdsOffset, Stereo, View};
+pub use ods::{Eye, OdsOffset, Stereo, StereoKind, View};
 pub use pole_merge::{PoleMerge, PoleMerging};
