@@ -16,8 +16,8 @@ use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
+use omnicloud::prepare::radius::auto_radius;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerging, Stereo};
-use omnicloud::radius::auto_radius;
 use omnicloud::raytrace::{BvhBuildParams, Tracer, render_with_tracer};
 use omnicloud::render::RenderSettings;
 use omnicloud::{Radii, Scene};
@@ -58,7 +58,7 @@ fn main() -> anyhow::Result<()> {
     let radius_s = t0.elapsed().as_secs_f64();
     scene.radii = Radii::Uniform(radius);
     let camera = Camera::new(
-        omnicloud::placement::open_ground_camera_position(&scene),
+        omnicloud::prepare::placement::open_ground_camera_position(&scene),
         0.0,
     );
 

@@ -128,6 +128,28 @@ impl Scene {
         }
     }
 
+    /// The points whose `mask` flag is set, with their radii and attributes, as a scene of
+    /// their own (same origin). Points beyond the mask's end are dropped.
+    pub fn select(&self, mask: &[bool]) -> Scene {
+        fn pick<T: Copy>(v: &[T], mask: &[bool]) -> Vec<T> {
+            masked(v, mask).collect()
+        }
+        let a = &self.attributes;
+        Scene {
+            origin: self.origin,
+            positions: pick(&self.positions, mask),
+            radii: match &self.radii {
+                Radii::Uniform(r) => Radii::Uniform(*r),
+                Radii::PerPoint(v) => Radii::PerPoint(pick(v, mask)),
+            },
+            attributes: Attributes {
+                rgb: a.rgb.as_deref().map(|v| pick(v, mask)),
+                intensity: a.intensity.as_deref().map(|v| pick(v, mask)),
+                classification: a.classification.as_deref().map(|v| pick(v, mask)),
+            },
+        }
+    }
+
     /// Axis-aligned bounds of the point centres in the local frame, or `None` when empty.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
         let first = *self.positions.first()?;
@@ -136,6 +158,32 @@ impl Scene {
                 .iter()
                 .fold((first, first), |(lo, hi), p| (lo.min(*p), hi.max(*p))),
         )
+    }
+}
+
+/// The `values` whose `mask` flag is set, in order: the one selection behind
+/// [`Scene::select`] and the loaders' per-chunk attribute gathering ([`extend_masked`]).
+pub(crate) fn masked<'a, T: Copy>(
+    values: &'a [T],
+    mask: &'a [bool],
+) -> impl Iterator<Item = T> + 'a {
+    values
+        .iter()
+        .zip(mask)
+        .filter(|(_, keep)| **keep)
+        .map(|(v, _)| *v)
+}
+
+/// Appends to `out` the `values` whose `mask` flag is set (nothing when `values` is `None`):
+/// a loader gathering one attribute chunk by chunk.
+pub(crate) fn extend_masked<T: Copy>(
+    out: &mut Option<Vec<T>>,
+    values: Option<&[T]>,
+    mask: &[bool],
+) {
+    if let Some(values) = values {
+        out.get_or_insert_with(Vec::new)
+            .extend(masked(values, mask));
     }
 }
 
@@ -152,5 +200,29 @@ mod tests {
         scene.recenter(camera);
         let back = scene.origin + scene.positions[0].as_dvec3();
         assert!((back - world).abs().max_element() < 1e-5);
+    }
+
+    #[test]
+    fn select_keeps_flagged_points_with_their_radii_and_attributes() {
+        let mut s = Scene::new(
+            DVec3::ONE,
+            (0..5).map(|i| Vec3::splat(i as f32)).collect(),
+            0.1,
+        );
+        s.attributes.intensity = Some(vec![0, 1, 2, 3, 4]);
+        s.radii = Radii::PerPoint(vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        let t = s.select(&[true, false, true, false, true]);
+        assert_eq!(t.origin, DVec3::ONE);
+        assert_eq!(
+            t.positions,
+            [Vec3::ZERO, Vec3::splat(2.0), Vec3::splat(4.0)]
+        );
+        assert_eq!(t.attributes.intensity, Some(vec![0, 2, 4]));
+        assert_eq!(t.attributes.rgb, None);
+        assert_eq!(t.radii, Radii::PerPoint(vec![1.0, 3.0, 5.0]));
+        let mut acc = None;
+        extend_masked(&mut acc, Some(&[7u8, 8, 9][..]), &[false, true, true]);
+        extend_masked(&mut acc, None, &[true]);
+        assert_eq!(acc, Some(vec![8, 9]));
     }
 }

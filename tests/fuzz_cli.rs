@@ -3,6 +3,9 @@
 
 use clap::Parser;
 use omnicloud::cli::{Cli, parse};
+use omnicloud::prepare::{RadiusChoice, Subsample};
+use omnicloud::projection::PoleMerge;
+use omnicloud::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 use proptest::prelude::*;
 
 const OPTIONS: &[&str] = &[
@@ -98,15 +101,15 @@ fn value_parsers_never_panic() {
         let _ = parse::width(&s);
         let _ = parse::ipd(&s);
         let _ = parse::degrees(&s);
-        let _ = parse::radius(&s);
-        let _ = parse::pole_merge(&s);
-        let _ = parse::proxy(&s);
-        let _ = parse::imposter(&s);
-        let _ = parse::renderer(&s);
-        let _ = parse::color(&s);
-        let _ = parse::shading(&s);
+        let _ = s.parse::<RadiusChoice>();
+        let _ = s.parse::<PoleMerge>();
+        let _ = s.parse::<Proxy>();
+        let _ = s.parse::<Imposter>();
+        let _ = s.parse::<RendererKind>();
+        let _ = s.parse::<ColorMode>();
+        let _ = s.parse::<Shading>();
         let _ = omnicloud::memory::parse_size(&s);
-        let _ = omnicloud::subsample::parse(&s);
+        let _ = s.parse::<Subsample>();
         let _ = omnicloud::bench::BenchMode::parse(&s);
     });
 }
@@ -114,7 +117,7 @@ fn value_parsers_never_panic() {
 #[test]
 fn parsed_pole_merges_give_factors_in_range() {
     property("parsed_pole_merges_give_factors_in_range", value(), |s| {
-        if let Ok(p) = parse::pole_merge(&s) {
+        if let Ok(p) = s.parse::<PoleMerge>() {
             for k in 0..=90 {
                 let f = p.factor((k as f64).to_radians());
                 assert!((0.0..=1.0).contains(&f), "{s}: factor {f} at {k}°");

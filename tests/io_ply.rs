@@ -2,8 +2,9 @@
 //! UTM-scale origin handling.
 
 use glam::{DVec3, Vec3};
+use omnicloud::Radii;
 use omnicloud::io::{self, ColorDepth, ColorScale, Format, LoadOptions, PlyEncoding, Up};
-use omnicloud::{Radii, placement};
+use omnicloud::prepare::placement;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -10,9 +10,10 @@ use indicatif::ProgressBar;
 use omnicloud::compare::{CompareReport, compare};
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::output::LinearImage;
+use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
-use omnicloud::{Radii, Rendered, Scene, placement, radius, raytrace};
+use omnicloud::{Radii, Rendered, Scene, raytrace};
 
 fn settings(width: u32, stereo: Stereo, color: ColorMode) -> RenderSettings {
     let mut s = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));

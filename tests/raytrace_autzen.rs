@@ -2,8 +2,8 @@
 //! near its centre: coverage and depth must be those of standing on a scanned field.
 
 use indicatif::ProgressBar;
+use omnicloud::prepare::radius::{auto_radius, median_spacing};
 use omnicloud::projection::Camera;
-use omnicloud::radius::{auto_radius, median_spacing};
 use omnicloud::raytrace::render;
 use omnicloud::render::{ColorMode, RenderSettings};
 use omnicloud::{Rendered, Scene};
@@ -24,7 +24,7 @@ fn autzen_from_standing_height_near_the_centre() {
     let radius = auto_radius(&scene);
     scene.radii = omnicloud::Radii::Uniform(radius);
     // Open flat ground near the centre: at the exact centre the eye stands in a tree canopy.
-    let eye = omnicloud::placement::open_ground_camera_position(&scene);
+    let eye = omnicloud::prepare::placement::open_ground_camera_position(&scene);
     let camera = Camera::new(eye, 0.0);
     let mut settings = RenderSettings::new(1024, camera);
     settings.color = ColorMode::Rgb;

@@ -11,10 +11,11 @@
 use indicatif::ProgressBar;
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::output::LinearImage;
+use omnicloud::prepare::subsample::{Subsample, apply};
+use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::Camera;
 use omnicloud::render::{ColorMode, RenderSettings};
-use omnicloud::subsample::{Subsample, apply};
-use omnicloud::{Rendered, placement, radius, raytrace};
+use omnicloud::{Rendered, raytrace};
 use std::path::Path;
 
 fn frame(r: &Rendered) -> LinearImage {

@@ -5,8 +5,8 @@
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_scene};
-use omnicloud::placement;
-use omnicloud::radius::{RadiusChoice, auto_radius};
+use omnicloud::prepare::placement;
+use omnicloud::prepare::radius::{RadiusChoice, auto_radius};
 use omnicloud::render::{ColorMode, base_colors};
 use omnicloud::scene::{Radii, Scene};
 use omnicloud::stream::{ChunkSink, PlanOptions, StreamError, StreamPlan, plan, stream_file};
@@ -234,7 +234,7 @@ fn write_terrain(path: &Path, laz: bool) {
     writer.close().unwrap();
 }
 
-/// The in-core decisions, through the public pieces `cli::prepare` uses.
+/// The in-core decisions, through the public pieces `prepare::prepare` uses.
 fn in_core(path: &Path) -> (Scene, DVec3, f32) {
     let (mut scene, _) = load_scene(path, &LoadOptions::default()).unwrap();
     let camera = placement::center_on_camera(&mut scene, None).unwrap();

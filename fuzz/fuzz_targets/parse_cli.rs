@@ -6,10 +6,11 @@
 
 use clap::Parser;
 use glam::DVec3;
-use omnicloud::cli::args::{BenchArgs, RenderArgs, StereoArg};
+use omnicloud::cli::args::{BenchArgs, RenderArgs};
 use omnicloud::cli::{Cli, Command, parse};
-use omnicloud::projection::{Camera, Equirect, PoleMerging, Stereo};
-use omnicloud::render::RenderSettings;
+use omnicloud::prepare::{RadiusChoice, Subsample};
+use omnicloud::projection::{Camera, Equirect, PoleMerge, Stereo};
+use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
 
 /// Prefixes the first byte chooses from, so mutations spend their time on the options.
 const PREFIXES: &[&[&str]] = &[
@@ -47,28 +48,28 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
 
 fn every_value_parser(value: &str) {
     let _ = parse::vec3(value);
-    let _ = parse::positive_metres(value);
+    let _ = omnicloud::value::positive_metres(value);
     let _ = parse::ipd(value);
     let _ = parse::degrees(value);
     let _ = parse::width(value).map(Equirect::from_width);
-    let _ = parse::radius(value);
-    if let Ok(p) = parse::pole_merge(value) {
+    let _ = value.parse::<RadiusChoice>();
+    if let Ok(p) = value.parse::<PoleMerge>() {
         for k in 0..=180 {
             let f = p.factor((f64::from(k) * 0.5).to_radians());
             assert!((0.0..=1.0).contains(&f), "{value}: factor {f}");
         }
         let _ = p.full_merge_latitude();
     }
-    let _ = parse::proxy(value);
-    let _ = parse::imposter(value);
-    let _ = parse::renderer(value);
-    let _ = parse::color(value);
-    let _ = parse::shading(value);
+    let _ = value.parse::<Proxy>();
+    let _ = value.parse::<Imposter>();
+    let _ = value.parse::<RendererKind>();
+    let _ = value.parse::<ColorMode>();
+    let _ = value.parse::<Shading>();
     if let Ok(size) = omnicloud::memory::parse_size(value) {
         assert!(size >= 1);
         let _ = omnicloud::memory::format_size(size);
     }
-    let _ = omnicloud::subsample::parse(value);
+    let _ = value.parse::<Subsample>();
     if let Ok(mode) = omnicloud::bench::BenchMode::parse(value) {
         let _ = mode.label();
     }
@@ -86,7 +87,7 @@ fn before_render(args: &RenderArgs) {
     if args.separate_eyes {
         let _ = omnicloud::output::eye_path(&args.output, "left");
     }
-    let eyes = if args.stereo == StereoArg::Ods { 2 } else { 1 };
+    let eyes = args.view.eyes();
     // The budget check, for point counts up to the largest a header can declare.
     for points in [0, 1, 1 << 20, u64::from(u32::MAX), u64::MAX] {
         let estimate = omnicloud::memory::raytrace_estimate(points, points, args.width, eyes);
@@ -98,8 +99,8 @@ fn before_render(args: &RenderArgs) {
     let _ = omnicloud::memory::raster_chunk_points(&args.file, args.width, eyes, cap, false);
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
-        camera: Camera::new(args.camera.unwrap_or(DVec3::ZERO), args.yaw),
-        stereo: args.stereo_mode(),
+        camera: Camera::new(args.view.camera.unwrap_or(DVec3::ZERO), args.view.yaw),
+        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
         color: args.color,
         shading: args.shading,
         proxy: args.proxy,
@@ -110,19 +111,11 @@ fn before_render(args: &RenderArgs) {
 
 /// What `omnicloud bench` builds from its arguments before loading the scene.
 fn before_bench(args: &BenchArgs) {
-    let stereo = match args.stereo {
-        Some(StereoArg::Ods) => Stereo::Ods {
-            ipd: args.ipd,
-            merging: PoleMerging::both(args.pole_merge),
-            offset: omnicloud::projection::OdsOffset::Exact,
-        },
-        _ => Stereo::Mono,
-    };
     let mut settings = RenderSettings::new(
         args.width.unwrap_or(1920),
-        Camera::new(args.camera.unwrap_or(DVec3::ZERO), args.yaw),
+        Camera::new(args.view.camera.unwrap_or(DVec3::ZERO), args.view.yaw),
     );
-    settings.stereo = stereo;
+    settings.stereo = args.view.stereo_mode().unwrap_or(Stereo::Mono);
     check_views(&settings);
     if let Some(modes) = &args.modes {
         for m in modes {

@@ -6,7 +6,8 @@ use super::mode::BenchMode;
 
 /// Options of `omnicloud bench` that are not render settings.
 ///
-/// The CLI maps `--width W` to [`BenchConfig::width`], `--stereo` to [`BenchConfig::stereo`],
+/// The CLI maps `--width W` to [`BenchConfig::width`], `--stereo` (with `--ipd`, the
+/// `--pole-merge` options and `--ods-offset`) to [`BenchConfig::stereo`],
 /// `--modes a,b` to [`BenchConfig::modes`] (labels as [`BenchMode::parse`] reads them),
 /// `--warmup N` / `--frames N` to the frame counts, `--out DIR` to the output folder given to
 /// `write_outputs`, and `--suite DIR` to `run_suite`.
@@ -14,7 +15,8 @@ use super::mode::BenchMode;
 pub struct BenchConfig {
     /// Image width per eye; `None` keeps the base settings' (or the suite manifest's) width.
     pub width: Option<u32>,
-    /// Mono/ODS override; `None` keeps the base settings' (or the manifest's) stereo.
+    /// Mono/ODS override, pole merging and ODS offset included; `None` keeps the base
+    /// settings' (or the manifest's) stereo.
     pub stereo: Option<Stereo>,
     /// Rasterizer modes to measure, in table order.
     pub modes: Vec<BenchMode>,

@@ -58,8 +58,8 @@ impl BenchMode {
     pub fn parse(s: &str) -> Result<BenchMode, String> {
         let (p, i) = s.split_once('+').unwrap_or((s, "raycast"));
         Ok(BenchMode {
-            proxy: crate::cli::parse::proxy(p)?,
-            imposter: crate::cli::parse::imposter(i)?,
+            proxy: p.parse()?,
+            imposter: i.parse()?,
         })
     }
 }

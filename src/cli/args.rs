@@ -2,14 +2,16 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand};
 use glam::DVec3;
 
 use crate::bench::BenchMode;
-use crate::projection::{OdsOffset, PoleMerge};
+use crate::io::Up;
+use crate::prepare::{PrepareOptions, RadiusChoice, Subsample};
+use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
-use super::parse::{self, RadiusChoice};
+use super::parse;
 
 /// Render LiDAR scans (LAS, LAZ, PLY) to 360° panoramas and omnidirectional-stereo pairs.
 #[derive(Debug, Parser)]
@@ -38,40 +40,74 @@ pub enum Command {
     Bench(BenchArgs),
 }
 
-/// Mono panorama or omnidirectional stereo.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum StereoArg {
-    /// One panorama.
-    None,
-    /// Left and right eye, top-bottom (left on top).
-    Ods,
+/// Scene, camera and stereo options shared by `render` and `bench`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Camera centre in file coordinates (default: XY centre of the bounds, 1.7 m above the
+    /// ground near it).
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
+    pub camera: Option<DVec3>,
+    /// Heading in degrees: 0 looks along +Y, 90 along +X.
+    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
+    pub yaw: f64,
+    /// Mono or omnidirectional stereo [default: none; bench --suite: each manifest entry's].
+    #[arg(long, value_enum, ignore_case = true)]
+    pub stereo: Option<StereoKind>,
+    /// Interocular distance in metres (with --stereo ods).
+    #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
+    pub ipd: f64,
+    /// Pole merging at both poles (with --stereo ods): off, comfortable (marrinan:45,0,3),
+    /// cycles (cycles:60,75), marrinan:START,END,EXP or cycles:FROM,TO.
+    #[arg(long, default_value = "comfortable")]
+    pub pole_merge: PoleMerge,
+    /// Pole merging at the north pole only (overrides --pole-merge there).
+    #[arg(long)]
+    pub pole_merge_north: Option<PoleMerge>,
+    /// Pole merging at the south pole only (overrides --pole-merge there).
+    #[arg(long)]
+    pub pole_merge_south: Option<PoleMerge>,
+    /// Rasterizer ODS inverse (with --stereo ods).
+    #[arg(long, value_enum, ignore_case = true, default_value = "exact")]
+    pub ods_offset: OdsOffset,
+    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
+    /// file's per-point `radius` when it has one, else auto.
+    #[arg(long)]
+    pub radius: Option<RadiusChoice>,
+    /// Up axis of the file.
+    #[arg(long, value_enum, ignore_case = true, default_value = "z")]
+    pub up: Up,
 }
 
-/// Exact ODS inverse or the paper's approximation (rasterizer only).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum OdsOffsetArg {
-    /// The exact inverse of the ODS ray.
-    Exact,
-    /// Marrinan & Papka's per-vertex offset (atan instead of asin).
-    Paper,
-}
+impl ViewArgs {
+    /// The stereo mode `--stereo` asks for, per-pole merging and the ODS offset applied;
+    /// `None` when it is not given.
+    pub fn stereo_mode(&self) -> Option<Stereo> {
+        self.stereo.map(|kind| match kind {
+            StereoKind::Mono => Stereo::Mono,
+            StereoKind::Ods => Stereo::Ods {
+                ipd: self.ipd,
+                merging: PoleMerging {
+                    north: self.pole_merge_north.unwrap_or(self.pole_merge),
+                    south: self.pole_merge_south.unwrap_or(self.pole_merge),
+                },
+                offset: self.ods_offset,
+            },
+        })
+    }
 
-impl From<OdsOffsetArg> for OdsOffset {
-    fn from(a: OdsOffsetArg) -> Self {
-        match a {
-            OdsOffsetArg::Exact => OdsOffset::Exact,
-            OdsOffsetArg::Paper => OdsOffset::Paper,
+    /// Images per frame: 2 with `--stereo ods`, else 1.
+    pub fn eyes(&self) -> u32 {
+        self.stereo.unwrap_or_default().eyes()
+    }
+
+    /// Where the scene's camera goes and how its file is read.
+    pub fn prepare_options(&self) -> PrepareOptions {
+        PrepareOptions {
+            camera: self.camera,
+            up: self.up,
+            radius: self.radius,
         }
     }
-}
-
-/// Which axis is up in the file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum UpArg {
-    /// Z up (LAS convention).
-    Z,
-    /// Y up (common in PLY from photogrammetry); swapped to Z up on load.
-    Y,
 }
 
 /// Options of `omnicloud render`.
@@ -85,39 +121,14 @@ pub struct RenderArgs {
     /// Image width per eye; the height is half of it.
     #[arg(long, default_value = "3840", value_parser = parse::width)]
     pub width: u32,
-    /// Camera centre in file coordinates (default: XY centre of the bounds, 1.7 m above the
-    /// ground near it).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
-    pub camera: Option<DVec3>,
-    /// Heading in degrees: 0 looks along +Y, 90 along +X.
-    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
-    pub yaw: f64,
-    /// Mono or omnidirectional stereo.
-    #[arg(long, value_enum, default_value = "none")]
-    pub stereo: StereoArg,
-    /// Interocular distance in metres.
-    #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
-    pub ipd: f64,
-    /// Pole merging at both poles: off, comfortable (marrinan:45,0,3), cycles (cycles:60,75),
-    /// marrinan:START,END,EXP or cycles:FROM,TO.
-    #[arg(long, default_value = "comfortable", value_parser = parse::pole_merge)]
-    pub pole_merge: PoleMerge,
-    /// Pole merging at the north pole only (overrides --pole-merge there).
-    #[arg(long, value_parser = parse::pole_merge)]
-    pub pole_merge_north: Option<PoleMerge>,
-    /// Pole merging at the south pole only (overrides --pole-merge there).
-    #[arg(long, value_parser = parse::pole_merge)]
-    pub pole_merge_south: Option<PoleMerge>,
-    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
-    /// file's per-point `radius` when it has one, else auto.
-    #[arg(long, value_parser = parse::radius)]
-    pub radius: Option<RadiusChoice>,
-    /// Point colour: auto (rgb when present, else elevation), rgb, intensity, classification,
-    /// elevation, flat.
-    #[arg(long, default_value = "auto", value_parser = parse::color)]
+    /// Scene, camera and stereo.
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Point colour (auto: rgb when present, else elevation).
+    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub color: ColorMode,
-    /// Shading: unlit, phong, normal.
-    #[arg(long, default_value = "unlit", value_parser = parse::shading)]
+    /// Shading.
+    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
     pub shading: Shading,
     /// Also write the distance along each ray to this EXR file (Z channel, +inf background).
     #[arg(long, value_name = "OUT.exr")]
@@ -128,21 +139,15 @@ pub struct RenderArgs {
     /// Write one file per eye (NAME_left.EXT, NAME_right.EXT) instead of top-bottom.
     #[arg(long)]
     pub separate_eyes: bool,
-    /// raster (GPU, default) or raytrace (CPU reference).
-    #[arg(long, default_value = "raster", value_parser = parse::renderer)]
+    /// Renderer.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raster")]
     pub renderer: RendererKind,
     /// Rasterizer proxy geometry: quad, static:N, dynamic, bounds.
-    #[arg(long, default_value = "bounds", value_parser = parse::proxy)]
+    #[arg(long, default_value = "bounds")]
     pub proxy: Proxy,
-    /// Rasterizer fragments: sprite (billboard shading) or raycast (exact).
-    #[arg(long, default_value = "raycast", value_parser = parse::imposter)]
+    /// Rasterizer fragments.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
     pub imposter: Imposter,
-    /// Rasterizer ODS inverse: exact or the paper's approximation.
-    #[arg(long, value_enum, default_value = "exact")]
-    pub ods_offset: OdsOffsetArg,
-    /// Up axis of the file.
-    #[arg(long, value_enum, default_value = "z")]
-    pub up: UpArg,
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -152,26 +157,8 @@ pub struct RenderArgs {
     pub max_memory: Option<u64>,
     /// Thin the cloud: N keeps every N-th point; auto keeps what can matter at this
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
-    #[arg(long, value_name = "N|auto", value_parser = crate::subsample::parse)]
-    pub subsample: Option<crate::subsample::Subsample>,
-}
-
-impl RenderArgs {
-    /// The stereo mode these options ask for (per-pole merging overrides applied).
-    pub fn stereo_mode(&self) -> crate::projection::Stereo {
-        use crate::projection::{PoleMerging, Stereo};
-        match self.stereo {
-            StereoArg::None => Stereo::Mono,
-            StereoArg::Ods => Stereo::Ods {
-                ipd: self.ipd,
-                merging: PoleMerging {
-                    north: self.pole_merge_north.unwrap_or(self.pole_merge),
-                    south: self.pole_merge_south.unwrap_or(self.pole_merge),
-                },
-                offset: self.ods_offset.into(),
-            },
-        }
-    }
+    #[arg(long, value_name = "N|auto")]
+    pub subsample: Option<Subsample>,
 }
 
 /// Options of `omnicloud compare`.
@@ -201,27 +188,10 @@ pub struct BenchArgs {
     /// Image width per eye [1920 for a scan; the manifest's width for --suite].
     #[arg(long, value_parser = parse::width)]
     pub width: Option<u32>,
-    /// Mono or ODS [none for a scan; the manifest's for --suite].
-    #[arg(long, value_enum)]
-    pub stereo: Option<StereoArg>,
-    /// Interocular distance in metres (with --stereo ods).
-    #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
-    pub ipd: f64,
-    /// Pole merging at both poles (with --stereo ods).
-    #[arg(long, default_value = "comfortable", value_parser = parse::pole_merge)]
-    pub pole_merge: PoleMerge,
-    /// Camera centre in file coordinates [automatic, as for render].
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
-    pub camera: Option<DVec3>,
-    /// Heading in degrees.
-    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
-    pub yaw: f64,
-    /// Sphere radius in metres or `auto` [per-point radii when present, else auto].
-    #[arg(long, value_parser = parse::radius)]
-    pub radius: Option<RadiusChoice>,
-    /// Up axis of the file.
-    #[arg(long, value_enum, default_value = "z")]
-    pub up: UpArg,
+    /// Scene, camera and stereo (for --suite only --stereo and the ODS options given with
+    /// it apply: the manifest places each view).
+    #[command(flatten)]
+    pub view: ViewArgs,
     /// Modes to time, comma-separated, as PROXY+IMPOSTER (e.g. quad+sprite,bounds+raycast)
     /// [all ten].
     #[arg(long, value_delimiter = ',', value_parser = BenchMode::parse)]
@@ -296,12 +266,93 @@ mod tests {
         let Command::Render(r) = cli.command else {
             panic!("not render")
         };
-        assert_eq!(r.camera, Some(DVec3::new(-637000.5, 851000.0, 12.0)));
-        assert_eq!(r.yaw, -30.0);
+        assert_eq!(r.view.camera, Some(DVec3::new(-637000.5, 851000.0, 12.0)));
+        assert_eq!(r.view.yaw, -30.0);
         assert_eq!(r.proxy, Proxy::Static(16));
-        assert_eq!(r.pole_merge_south, Some(PoleMerge::Off));
-        assert_eq!(r.radius, Some(RadiusChoice::Auto));
+        assert_eq!(r.view.pole_merge_south, Some(PoleMerge::Off));
+        assert_eq!(r.view.radius, Some(RadiusChoice::Auto));
+        assert_eq!(
+            r.view.stereo_mode(),
+            Some(Stereo::Ods {
+                ipd: 0.065,
+                merging: PoleMerging {
+                    north: PoleMerge::CYCLES_DEFAULT,
+                    south: PoleMerge::Off
+                },
+                offset: OdsOffset::Paper
+            })
+        );
+        assert_eq!(r.renderer, RendererKind::Raytrace);
+        assert_eq!((r.color, r.shading), (ColorMode::Elevation, Shading::Phong));
         assert!(r.quiet);
+    }
+
+    #[test]
+    fn bench_takes_the_shared_view_options() {
+        let bench = |extra: &[&str]| {
+            let argv = ["omnicloud", "bench"].iter().chain(extra);
+            let Command::Bench(b) = Cli::try_parse_from(argv).unwrap().command else {
+                panic!("not bench")
+            };
+            b
+        };
+        let b = bench(&[
+            "s.laz",
+            "--stereo",
+            "ods",
+            "--pole-merge-north",
+            "off",
+            "--ods-offset",
+            "paper",
+        ]);
+        assert_eq!(
+            b.view.stereo_mode(),
+            Some(Stereo::Ods {
+                ipd: 0.064,
+                merging: PoleMerging {
+                    north: PoleMerge::Off,
+                    south: PoleMerge::COMFORTABLE
+                },
+                offset: OdsOffset::Paper
+            })
+        );
+        assert_eq!(b.width, None);
+        // Without --stereo the manifest (or, for a scan, mono) decides.
+        assert_eq!(bench(&["--suite", "dir"]).view.stereo_mode(), None);
+    }
+
+    #[test]
+    fn plain_values_are_listed_and_read_in_any_case() {
+        let Command::Render(r) = Cli::try_parse_from([
+            "omnicloud",
+            "render",
+            "a.las",
+            "-o",
+            "x.png",
+            "--renderer",
+            "RAYTRACE",
+            "--up",
+            "Y",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not render")
+        };
+        assert_eq!((r.renderer, r.view.up), (RendererKind::Raytrace, Up::Y));
+        assert_eq!(r.view.stereo_mode(), None);
+        let e = Cli::try_parse_from([
+            "omnicloud",
+            "render",
+            "a.las",
+            "-o",
+            "x.png",
+            "--shading",
+            "toon",
+        ])
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("unlit, phong, normal"), "{e}");
     }
 
     #[test]

@@ -2,13 +2,14 @@
 
 use anyhow::Result;
 use glam::DVec3;
+use indicatif::ProgressBar;
 
 use crate::bench::{self, BenchConfig};
-use crate::projection::{Camera, OdsOffset, PoleMerging, Stereo};
+use crate::prepare::prepare;
+use crate::projection::Camera;
 use crate::render::{ColorMode, RenderSettings};
 
-use super::args::{BenchArgs, StereoArg};
-use super::prepare::prepare;
+use super::args::BenchArgs;
 use super::progress;
 
 /// Width used for a scan when `--width` is not given.
@@ -18,14 +19,7 @@ const DEFAULT_WIDTH: u32 = 1920;
 pub fn run(args: &BenchArgs) -> Result<()> {
     let config = BenchConfig {
         width: args.width,
-        stereo: args.stereo.map(|s| match s {
-            StereoArg::None => Stereo::Mono,
-            StereoArg::Ods => Stereo::Ods {
-                ipd: args.ipd,
-                merging: PoleMerging::both(args.pole_merge),
-                offset: OdsOffset::Exact,
-            },
-        }),
+        stereo: args.view.stereo_mode(),
         modes: args.modes.clone().unwrap_or_else(bench::BenchMode::all),
         warmup_frames: args.warmup,
         timed_frames: args.frames as usize,
@@ -52,7 +46,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 eprintln!("{m}");
             }
         };
-        let prepared = prepare(file, args.camera, args.up, args.radius, say)?;
+        let prepared = prepare(file, &args.view.prepare_options(), &ProgressBar::hidden())?;
+        super::warn_dropped(file, &prepared.report, &say);
         let c = prepared.camera_world;
         say(format!(
             "{}: {} points, camera at ({:.3}, {:.3}, {:.3})",
@@ -64,7 +59,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ));
         let mut base = RenderSettings::new(
             args.width.unwrap_or(DEFAULT_WIDTH),
-            Camera::new(DVec3::ZERO, args.yaw),
+            Camera::new(DVec3::ZERO, args.view.yaw),
         );
         base.color = ColorMode::Auto;
         let name = file

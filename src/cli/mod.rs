@@ -3,13 +3,14 @@
 pub mod args;
 mod bench;
 pub mod parse;
-pub(crate) mod prepare;
 mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
 
 use anyhow::{Context, Result};
+
+use crate::prepare::radius;
 
 pub use args::{Cli, Command};
 
@@ -29,6 +30,17 @@ pub fn run(cli: Cli) -> Result<()> {
             println!("{report}");
             Ok(())
         }
+    }
+}
+
+/// Warns, through `say`, of points loading dropped for NaN/inf coordinates.
+fn warn_dropped(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
+    if report.dropped_nonfinite > 0 {
+        say(format!(
+            "warning: dropped {} points with NaN/inf coordinates from {}",
+            report.dropped_nonfinite,
+            file.display()
+        ));
     }
 }
 
@@ -53,10 +65,10 @@ fn info(file: &std::path::Path) -> Result<()> {
             report.dropped_nonfinite
         );
     }
-    match crate::radius::median_spacing(&scene) {
+    match radius::median_spacing(&scene) {
         Some(s) => println!(
             "spacing:       {s:.4} m median nearest-neighbour (auto radius {:.4} m)",
-            crate::radius::radius_for_spacing(Some(s))
+            radius::radius_for_spacing(Some(s))
         ),
         None => println!("spacing:       n/a (fewer than two distinct points)"),
     }

@@ -4,15 +4,16 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use glam::DVec3;
+use indicatif::ProgressBar;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout};
-use crate::projection::{Camera, Equirect};
+use crate::prepare::{Prepared, prepare, subsample};
+use crate::projection::{Camera, Equirect, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::{Rendered, output, raytrace};
 
-use super::args::{RenderArgs, StereoArg};
-use super::prepare::{Prepared, prepare};
+use super::args::RenderArgs;
 use super::progress;
 
 /// Runs `omnicloud render`.
@@ -25,7 +26,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let Some(a) = &args.anaglyph {
         ImageFormat::require(a, ImageFormat::Png)?;
     }
-    if args.anaglyph.is_some() && args.stereo != StereoArg::Ods {
+    if args.anaglyph.is_some() && args.view.stereo != Some(StereoKind::Ods) {
         bail!("--anaglyph needs --stereo ods (a mono panorama has no second eye)");
     }
     let say = |msg: String| {
@@ -39,8 +40,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
         // Scenes are centred on the camera: it sits at the local origin.
-        camera: Camera::new(DVec3::ZERO, args.yaw),
-        stereo: args.stereo_mode(),
+        camera: Camera::new(DVec3::ZERO, args.view.yaw),
+        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
         color: args.color,
         shading: args.shading,
         proxy: args.proxy,
@@ -86,10 +87,17 @@ fn ray_trace(
     let Prepared {
         mut scene,
         camera_world,
-    } = prepare(&args.file, args.camera, args.up, args.radius, say)?;
+        report,
+        ..
+    } = prepare(
+        &args.file,
+        &args.view.prepare_options(),
+        &ProgressBar::hidden(),
+    )?;
+    super::warn_dropped(&args.file, &report, say);
     if let Some(how) = args.subsample {
         let before = scene.len();
-        scene = crate::subsample::apply(&scene, how, &settings.camera, settings.image);
+        scene = subsample::apply(&scene, how, &settings.camera, settings.image);
         say(format!(
             "subsample {how:?}: kept {} of {before} points ({:.1}%)",
             scene.len(),

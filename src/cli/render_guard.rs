@@ -1,20 +1,13 @@
-//! The render command's safeguards (issue 6): the memory cap checked before loading, and the
+//! The render command's safeguards: the memory cap checked before loading, and the
 //! Ctrl-C handler that removes unfinished outputs.
 
 use anyhow::Result;
 
 use crate::memory::{self, check_budget};
+use crate::prepare::Subsample;
 use crate::render::RendererKind;
-use crate::subsample::Subsample;
 
-use super::args::{RenderArgs, StereoArg};
-
-fn eyes(args: &RenderArgs) -> u32 {
-    match args.stereo {
-        StereoArg::None => 1,
-        StereoArg::Ods => 2,
-    }
-}
+use super::args::RenderArgs;
 
 /// The cap in force and whether it is the default.
 fn cap(args: &RenderArgs) -> Option<(u64, bool)> {
@@ -37,12 +30,12 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     let info = crate::io::open(&args.file)?.info().clone();
     let estimate = match args.subsample {
         Some(Subsample::Auto) => {
-            memory::raytrace_estimate(info.point_count, 0, args.width, eyes(args))
+            memory::raytrace_estimate(info.point_count, 0, args.width, args.view.eyes())
         }
         Some(Subsample::Every(n)) => {
-            memory::raytrace_estimate_for(&info, n, args.width, eyes(args))
+            memory::raytrace_estimate_for(&info, n, args.width, args.view.eyes())
         }
-        None => memory::raytrace_estimate_for(&info, 1, args.width, eyes(args)),
+        None => memory::raytrace_estimate_for(&info, 1, args.width, args.view.eyes()),
     };
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
@@ -57,8 +50,12 @@ pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Sce
         return Ok(());
     };
     let info = crate::io::open(&args.file)?.info().clone();
-    let estimate =
-        memory::raytrace_estimate(info.point_count, scene.len() as u64, args.width, eyes(args));
+    let estimate = memory::raytrace_estimate(
+        info.point_count,
+        scene.len() as u64,
+        args.width,
+        args.view.eyes(),
+    );
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
 }

@@ -6,15 +6,15 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 
+use crate::Rendered;
 use crate::memory;
+use crate::prepare::subsample::{self, Subsample};
 use crate::raster::{ChunkedFrame, Rasterizer};
 use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
-use crate::subsample::{self, Subsample};
-use crate::{Rendered, io::Up};
 
-use super::args::{RenderArgs, UpArg};
+use super::args::RenderArgs;
 use super::progress;
 
 /// Draws each streamed chunk, thinned first when `--subsample` asks.
@@ -61,12 +61,9 @@ pub(super) fn rasterize(
 
     let started = Instant::now();
     let options = PlanOptions {
-        camera: args.camera,
-        radius: args.radius,
-        up: match args.up {
-            UpArg::Z => Up::Z,
-            UpArg::Y => Up::Y,
-        },
+        camera: args.view.camera,
+        radius: args.view.radius,
+        up: args.view.up,
         color: args.color,
         ..PlanOptions::default()
     };

@@ -5,7 +5,7 @@ use super::chunk::{ColorScale, RawChunk, RawRgb};
 use super::error::LoadError;
 use super::info::FileInfo;
 use super::open;
-use crate::scene::{Attributes, Radii, Scene};
+use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
 use std::path::Path;
@@ -15,8 +15,8 @@ const LOAD_CHUNK: usize = 1 << 16;
 /// Upper bound on memory reserved from a header's (untrusted) point count.
 const MAX_RESERVE: u64 = 1 << 24;
 
-/// Which file axis points up.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// Which file axis points up (`--up`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Up {
     /// Z up (LAS/LiDAR convention): coordinates are kept.
     #[default]
@@ -102,20 +102,6 @@ pub(crate) const MAX_HEADER_EXTENT: f64 = 1e7;
 /// A point that survives loading: finite and within [`MAX_COORDINATE`].
 pub(crate) fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
-}
-
-/// Appends to `out` the `values` whose `kept` flag is set (nothing when `values` is `None`).
-pub(crate) fn keep_kept<T: Copy>(values: Option<Vec<T>>, kept: &[bool], out: &mut Option<Vec<T>>) {
-    if let Some(values) = values {
-        let out = out.get_or_insert_with(Vec::new);
-        out.extend(
-            values
-                .into_iter()
-                .zip(kept)
-                .filter(|(_, k)| **k)
-                .map(|(v, _)| v),
-        );
-    }
 }
 
 /// Reads a whole LAS/LAZ/PLY file into a [`Scene`].
@@ -214,31 +200,21 @@ pub fn load_scene_with_progress(
             Some(RawRgb::Bits8(c)) => {
                 let acc = rgb.get_or_insert_with(|| ColorAccum::Bits8(Vec::with_capacity(reserve)));
                 if let ColorAccum::Bits8(v) = acc {
-                    v.extend(
-                        c.into_iter()
-                            .zip(&kept)
-                            .filter(|(_, k)| **k)
-                            .map(|(c, _)| c),
-                    );
+                    v.extend(masked(&c, &kept));
                 }
             }
             Some(RawRgb::Bits16(c)) => {
                 let acc =
                     rgb.get_or_insert_with(|| ColorAccum::Bits16(Vec::with_capacity(reserve)));
                 if let ColorAccum::Bits16(v) = acc {
-                    v.extend(
-                        c.into_iter()
-                            .zip(&kept)
-                            .filter(|(_, k)| **k)
-                            .map(|(c, _)| c),
-                    );
+                    v.extend(masked(&c, &kept));
                 }
             }
             None => {}
         }
-        keep_kept(chunk_intensity, &kept, &mut intensity);
-        keep_kept(chunk_classification, &kept, &mut classification);
-        keep_kept(chunk_radius, &kept, &mut radius);
+        extend_masked(&mut intensity, chunk_intensity.as_deref(), &kept);
+        extend_masked(&mut classification, chunk_classification.as_deref(), &kept);
+        extend_masked(&mut radius, chunk_radius.as_deref(), &kept);
     }
 
     let points_kept = points_read - dropped;

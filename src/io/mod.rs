@@ -17,7 +17,6 @@ mod ply;
 pub use chunk::{ColorScale, PointChunk};
 pub use error::LoadError;
 pub use info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
-pub(crate) use load::keep_kept;
 pub use load::{LoadOptions, LoadReport, Up, load_scene, load_scene_with_progress};
 pub(crate) use load::{MAX_HEADER_EXTENT, usable};
 

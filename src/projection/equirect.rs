@@ -16,6 +16,27 @@ pub struct Equirect {
 }
 
 impl Equirect {
+    /// Narrowest image accepted, pixels.
+    pub const MIN_WIDTH: u32 = 16;
+    /// Widest image accepted, pixels.
+    pub const MAX_WIDTH: u32 = 16384;
+
+    /// `width` when it is even and within `MIN_WIDTH..=MAX_WIDTH` (the height is half of it).
+    ///
+    /// # Errors
+    /// A message giving the rule.
+    pub fn check_width(width: u32) -> Result<u32, String> {
+        if (Self::MIN_WIDTH..=Self::MAX_WIDTH).contains(&width) && width.is_multiple_of(2) {
+            Ok(width)
+        } else {
+            Err(format!(
+                "the width must be even and within {}..={}, got {width}",
+                Self::MIN_WIDTH,
+                Self::MAX_WIDTH
+            ))
+        }
+    }
+
     /// The image of width `width` and height `width / 2`.
     pub fn from_width(width: u32) -> Self {
         Equirect {

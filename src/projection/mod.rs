@@ -13,6 +13,6 @@ pub mod sphere_bounds;
 
 pub use camera::Camera;
 pub use equirect::Equirect;
-pub use ods::{Eye, OdsOffset, Stereo, View};
+pub use ods::{Eye, OdsOffset, Stereo, StereoKind, View};
 pub use pole_merge::{PoleMerge, PoleMerging};
 pub use sphere_bounds::{Bounds, Rect, cap_rect, sphere_bounds};

@@ -25,14 +25,35 @@ impl Eye {
     }
 }
 
-/// How the rasterizer maps a world point to an eye's image.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// How the rasterizer maps a world point to an eye's image (`--ods-offset`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum OdsOffset {
     /// The exact inverse of the ODS ray: `asin(r / rho)`, with the pole-merging fixed point.
     #[default]
     Exact,
     /// Marrinan & Papka's per-vertex offset perpendicular to `P - C`: `atan(r / rho)`.
     Paper,
+}
+
+/// Mono or omnidirectional stereo, without the ODS parameters (`--stereo`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum StereoKind {
+    /// One panorama.
+    #[default]
+    #[value(name = "none")]
+    Mono,
+    /// Left and right eye, top-bottom (left on top).
+    Ods,
+}
+
+impl StereoKind {
+    /// Images rendered per frame: 1 or 2.
+    pub fn eyes(self) -> u32 {
+        match self {
+            StereoKind::Mono => 1,
+            StereoKind::Ods => 2,
+        }
+    }
 }
 
 /// Mono or omnidirectional stereo.
@@ -52,6 +73,24 @@ pub enum Stereo {
 }
 
 impl Stereo {
+    /// Largest interocular distance accepted, metres.
+    pub const MAX_IPD: f64 = 10.0;
+
+    /// `ipd` when it lies in `0..=MAX_IPD` metres (0 makes both eyes the mono view).
+    ///
+    /// # Errors
+    /// A message giving the allowed range.
+    pub fn check_ipd(ipd: f64) -> Result<f64, String> {
+        if (0.0..=Self::MAX_IPD).contains(&ipd) {
+            Ok(ipd)
+        } else {
+            Err(format!(
+                "the interocular distance must lie in 0..={} metres, got `{ipd}`",
+                Self::MAX_IPD
+            ))
+        }
+    }
+
     /// The views this setting renders, in output order (left eye first).
     pub fn views(&self, camera: Camera) -> Vec<View> {
         match *self {

@@ -1,6 +1,9 @@
 //! Pole merging: how the interocular distance shrinks towards the poles (DESIGN §4).
 
 use std::f64::consts::FRAC_PI_2;
+use std::str::FromStr;
+
+use crate::value::finite;
 
 /// One pole's merge profile.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,6 +92,75 @@ impl PoleMerge {
     }
 }
 
+/// `off`, `comfortable`, `cycles`, `marrinan:START,END,EXP` or `cycles:FROM,TO` (degrees), as
+/// `--pole-merge` and the suite manifest spell a profile.
+impl FromStr for PoleMerge {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        let numbers = |args: &str, n: usize, form: &str| -> Result<Vec<f64>, String> {
+            let v: Result<Vec<f64>, String> = args
+                .split(',')
+                .map(|p| finite(p, "pole-merge angle"))
+                .collect();
+            let v = v?;
+            if v.len() != n {
+                return Err(format!("expected {form}, got `{s}`"));
+            }
+            Ok(v)
+        };
+        match s.split_once(':') {
+            None => match s.to_ascii_lowercase().as_str() {
+                "off" | "none" => Ok(PoleMerge::Off),
+                "comfortable" | "marrinan" => Ok(PoleMerge::COMFORTABLE),
+                "cycles" => Ok(PoleMerge::CYCLES_DEFAULT),
+                _ => Err(format!(
+                    "unknown pole merge `{s}`: use off, comfortable, cycles, \
+                     marrinan:START,END,EXP or cycles:FROM,TO"
+                )),
+            },
+            Some((kind, args)) => match kind.to_ascii_lowercase().as_str() {
+                "marrinan" => {
+                    let v = numbers(args, 3, "marrinan:START,END,EXP")?;
+                    let (start, end, exp) = (v[0], v[1], v[2]);
+                    if !(0.0..=90.0).contains(&start) || !(0.0..=start).contains(&end) {
+                        return Err(format!(
+                            "marrinan angles are measured from the pole: need 0 <= END <= START <= 90, got `{s}`"
+                        ));
+                    }
+                    if exp <= 0.0 {
+                        return Err(format!("the marrinan exponent must be > 0, got `{s}`"));
+                    }
+                    Ok(PoleMerge::Marrinan {
+                        start_deg: start,
+                        end_deg: end,
+                        exponent: exp,
+                    })
+                }
+                "cycles" => {
+                    let v = numbers(args, 2, "cycles:FROM,TO")?;
+                    if !(0.0..=90.0).contains(&v[0])
+                        || !(v[0]..=90.0).contains(&v[1])
+                        || v[0] == v[1]
+                    {
+                        return Err(format!(
+                            "cycles angles are altitudes from the horizon: need 0 <= FROM < TO <= 90, got `{s}`"
+                        ));
+                    }
+                    Ok(PoleMerge::Cycles {
+                        from_deg: v[0],
+                        to_deg: v[1],
+                    })
+                }
+                _ => Err(format!(
+                    "unknown pole merge `{kind}`: use marrinan:START,END,EXP or cycles:FROM,TO"
+                )),
+            },
+        }
+    }
+}
+
 /// Merge profiles for both poles.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PoleMerging {
@@ -165,5 +237,37 @@ mod tests {
         };
         assert_eq!(m.factor(80f64.to_radians()), 0.0);
         assert_eq!(m.factor(-80f64.to_radians()), 1.0);
+    }
+
+    #[test]
+    fn parses_every_form_and_rejects_bad_ones() {
+        let parse = |s: &str| s.parse::<PoleMerge>();
+        assert_eq!(parse("off").unwrap(), PoleMerge::Off);
+        assert_eq!(parse("comfortable").unwrap(), PoleMerge::COMFORTABLE);
+        assert_eq!(
+            parse("marrinan:45,0,3").unwrap(),
+            PoleMerge::Marrinan {
+                start_deg: 45.0,
+                end_deg: 0.0,
+                exponent: 3.0
+            }
+        );
+        assert_eq!(
+            parse("cycles:60,75").unwrap(),
+            PoleMerge::Cycles {
+                from_deg: 60.0,
+                to_deg: 75.0
+            }
+        );
+        for bad in [
+            "cycles:75,60",
+            "marrinan:10,20,1",
+            "marrinan:45,0",
+            "cycles:a,b",
+            "x",
+            "marrinan:45,0,NaN",
+        ] {
+            assert!(parse(bad).is_err(), "{bad}");
+        }
     }
 }

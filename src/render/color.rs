@@ -3,7 +3,7 @@
 use crate::scene::Scene;
 
 /// How points are coloured.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum ColorMode {
     /// RGB from the file when present, else elevation.
     #[default]
@@ -18,6 +18,15 @@ pub enum ColorMode {
     Elevation,
     /// One light grey.
     Flat,
+}
+
+/// `auto`, `rgb`, `intensity`, `classification`, `elevation` or `flat`.
+impl std::str::FromStr for ColorMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::value::choice(s, "colour mode")
+    }
 }
 
 /// The flat colour.

@@ -1,12 +1,15 @@
 //! Render settings shared by the ray tracer and the rasterizer.
 
+use std::str::FromStr;
+
 use crate::projection::{Camera, Equirect, Stereo, View};
+use crate::value::choice;
 
 use super::color::ColorMode;
 use super::shading::Shading;
 
 /// Which renderer draws the scene.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum RendererKind {
     /// GPU imposter-sphere rasterizer (wgpu).
     #[default]
@@ -30,13 +33,59 @@ pub enum Proxy {
 }
 
 /// Rasterizer fragment model (DESIGN §7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Imposter {
     /// Shaded from interpolated billboard coordinates, as in the paper.
     Sprite,
     /// Exact per-pixel ODS ray / sphere intersection.
     #[default]
     Raycast,
+}
+
+/// `raster` or `raytrace`.
+impl FromStr for RendererKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        choice(s, "renderer")
+    }
+}
+
+/// `sprite` or `raycast`.
+impl FromStr for Imposter {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        choice(s, "imposter")
+    }
+}
+
+/// `quad`, `static:N` (N in 1..=64; `static` alone is `static:4`), `dynamic` or `bounds`.
+impl FromStr for Proxy {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim().to_ascii_lowercase();
+        match s.split_once(':') {
+            Some(("static", n)) => {
+                let n: u32 = n
+                    .parse()
+                    .map_err(|_| format!("expected static:N with N a whole number, got `{s}`"))?;
+                if (1..=64).contains(&n) {
+                    Ok(Proxy::Static(n))
+                } else {
+                    Err(format!("static:N needs 1 <= N <= 64, got {n}"))
+                }
+            }
+            None if s == "quad" => Ok(Proxy::Quad),
+            None if s == "dynamic" => Ok(Proxy::Dynamic),
+            None if s == "bounds" => Ok(Proxy::Bounds),
+            None if s == "static" => Ok(Proxy::Static(4)),
+            _ => Err(format!(
+                "unknown proxy `{s}`: use quad, static:N, dynamic or bounds"
+            )),
+        }
+    }
 }
 
 /// Everything a renderer needs besides the scene.
@@ -75,5 +124,20 @@ impl RenderSettings {
     /// The views to render, left eye first.
     pub fn views(&self) -> Vec<View> {
         self.stereo.views(self.camera)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn proxies_parse_with_their_bounds_checked() {
+        assert_eq!("static:16".parse(), Ok(Proxy::Static(16)));
+        assert_eq!(" Bounds".parse(), Ok(Proxy::Bounds));
+        assert_eq!("static".parse(), Ok(Proxy::Static(4)));
+        for bad in ["static:0", "static:65", "static:x", "hull"] {
+            assert!(bad.parse::<Proxy>().is_err(), "{bad}");
+        }
     }
 }

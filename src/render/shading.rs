@@ -9,7 +9,7 @@ use glam::Vec3;
 use crate::projection::Camera;
 
 /// Shading model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum Shading {
     /// Base colour only: the mode for accuracy comparisons.
     #[default]
@@ -18,6 +18,15 @@ pub enum Shading {
     Phong,
     /// The world-space surface normal as colour, `(n + 1) / 2`.
     Normal,
+}
+
+/// `unlit`, `phong` or `normal`.
+impl std::str::FromStr for Shading {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        crate::value::choice(s, "shading")
+    }
 }
 
 /// A point light.

@@ -1,6 +1,7 @@
 //! Why planning or streaming a render failed.
 
 use crate::io::LoadError;
+use crate::prepare::PrepareError;
 use crate::render::color::MissingAttribute;
 use std::path::PathBuf;
 
@@ -16,15 +17,9 @@ pub enum StreamError {
     /// The colour mode needs an attribute the file lacks.
     #[error(transparent)]
     Color(#[from] MissingAttribute),
-    /// No camera position could be found on the surveyed points.
-    #[error(
-        "{}: could not place the camera automatically (no usable ground near the centre); pass --camera X,Y,Z",
-        path.display()
-    )]
-    CameraPlacement {
-        /// The file.
-        path: PathBuf,
-    },
+    /// Preparing the surveyed points failed (no camera position could be found on them).
+    #[error(transparent)]
+    Prepare(#[from] PrepareError),
     /// The renderer failed on a chunk; streaming stopped.
     #[error("rendering failed: {0}")]
     Sink(SinkError),

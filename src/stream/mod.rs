@@ -82,31 +82,27 @@ pub fn chunk_scene(
         .map(|p| io::usable(up.to_world(*p)))
         .collect();
     let dropped = keep.iter().filter(|k| !**k).count() as u64;
-    fn pick<T: Copy>(v: Option<Vec<T>>, keep: &[bool]) -> Option<Vec<T>> {
-        let mut out = None;
-        io::keep_kept(v, keep, &mut out);
-        out
-    }
-    let positions = chunk
-        .positions
-        .iter()
-        .zip(&keep)
-        .filter(|(_, k)| **k)
-        .map(|(p, _)| (up.to_world(*p) - origin).as_vec3())
-        .collect();
     let file_radii = chunk.radius.filter(|_| keep_file_radii);
-    let radii = Radii::from_file(pick(file_radii, &keep), radius);
     let scene = Scene {
         origin,
-        positions,
-        radii,
+        // Unusable points are converted too, then selected away below.
+        positions: chunk
+            .positions
+            .iter()
+            .map(|p| (up.to_world(*p) - origin).as_vec3())
+            .collect(),
+        radii: Radii::from_file(file_radii, radius),
         attributes: Attributes {
-            rgb: pick(chunk.rgb, &keep),
-            intensity: pick(chunk.intensity, &keep),
-            classification: pick(chunk.classification, &keep),
+            rgb: chunk.rgb,
+            intensity: chunk.intensity,
+            classification: chunk.classification,
         },
     };
-    (scene, dropped)
+    if dropped == 0 {
+        (scene, 0)
+    } else {
+        (scene.select(&keep), dropped)
+    }
 }
 
 /// Streams the planned file through `sink` in chunks of `chunk_points`: `plan.whole` when the

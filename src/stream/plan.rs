@@ -2,9 +2,9 @@
 //! the colour ranges and the 16-bit colour scale are decided once, before any chunk is drawn,
 //! so every chunk is placed, sized and coloured alike.
 //!
-//! A file of at most [`PlanOptions::survey_points`] points is read whole, sequentially, by
-//! [`crate::io::load_scene`]: the decisions are then exactly the in-core path's
-//! (`cli::prepare` + `render::base_colors`) and the cloud is kept for drawing. A larger file
+//! A file of at most [`PlanOptions::survey_points`] points is read whole by
+//! [`crate::prepare::prepare`]: the decisions are then exactly the in-core path's (that and
+//! `render::base_colors`) and the cloud is kept for drawing. A larger file
 //! is surveyed in up to [`SURVEY_BLOCKS`] evenly spaced contiguous blocks: contiguous so the
 //! median spacing (auto radius) measures the real local density, not a thinned one; spread
 //! so the sample covers the file's whole extent. The camera's XY centre comes from the
@@ -12,10 +12,11 @@
 
 use super::StreamError;
 use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
-use crate::placement;
-use crate::radius::{RadiusChoice, auto_radius};
+use crate::prepare::{
+    PrepareError, PrepareOptions, Prepared, RadiusChoice, placement, prepare, radius,
+};
 use crate::render::{ColorMode, ColorRule};
-use crate::scene::{Attributes, Radii, Scene};
+use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
 use glam::DVec3;
 use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
@@ -123,26 +124,6 @@ pub fn plan(
     }
 }
 
-/// Applies the radius choice as the in-core path does; returns the radius for points without
-/// their own and whether the file's radii are kept.
-fn apply_radius(scene: &mut Scene, choice: Option<RadiusChoice>) -> (f32, bool) {
-    match choice {
-        Some(RadiusChoice::Fixed(r)) => {
-            scene.radii = Radii::Uniform(r);
-            (r, false)
-        }
-        // load_scene gave invalid per-point radii this default.
-        None if matches!(scene.radii, Radii::PerPoint(_)) => {
-            (LoadOptions::default().default_radius, true)
-        }
-        Some(RadiusChoice::Auto) | None => {
-            let r = auto_radius(scene);
-            scene.radii = Radii::Uniform(r);
-            (r, false)
-        }
-    }
-}
-
 /// The whole file read as the in-core path reads it.
 fn plan_whole(
     path: &Path,
@@ -150,26 +131,25 @@ fn plan_whole(
     options: &PlanOptions,
     progress: &ProgressBar,
 ) -> Result<StreamPlan, StreamError> {
-    let load = LoadOptions {
-        origin: options.camera,
+    let prepare_options = PrepareOptions {
+        camera: options.camera,
         up: options.up,
-        ..LoadOptions::default()
+        radius: options.radius,
     };
-    let (mut scene, report) = io::load_scene_with_progress(path, &load, progress)?;
-    let camera = placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
-        StreamError::CameraPlacement {
-            path: path.to_path_buf(),
-        }
-    })?;
-    let (radius, keep_file_radii) = apply_radius(&mut scene, options.radius);
+    let Prepared {
+        scene,
+        camera_world,
+        radii,
+        report,
+    } = prepare(path, &prepare_options, progress)?;
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
         declared,
         up: options.up,
-        camera,
-        radius,
-        keep_file_radii,
+        camera: camera_world,
+        radius: radii.radius,
+        keep_file_radii: radii.keep_file_radii,
         color,
         color_scale: report.color_scale.unwrap_or(ColorScale::Direct8),
         surveyed: report.points_read,
@@ -210,40 +190,26 @@ impl Sample {
         let world: Vec<DVec3> = raw.positions.iter().map(|p| up.to_world(*p)).collect();
         let kept: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
         self.dropped += kept.iter().filter(|k| !**k).count() as u64;
-        self.world.extend(
-            world
-                .into_iter()
-                .zip(&kept)
-                .filter(|(_, k)| **k)
-                .map(|(p, _)| p),
-        );
+        self.world.extend(masked(&world, &kept));
         match (raw.rgb, &mut self.rgb) {
-            (Some(RawRgb::Bits8(c)), Some(RawRgb::Bits8(acc))) => acc.extend(
-                c.into_iter()
-                    .zip(&kept)
-                    .filter(|(_, k)| **k)
-                    .map(|(c, _)| c),
-            ),
-            (Some(RawRgb::Bits16(c)), Some(RawRgb::Bits16(acc))) => acc.extend(
-                c.into_iter()
-                    .zip(&kept)
-                    .filter(|(_, k)| **k)
-                    .map(|(c, _)| c),
-            ),
+            (Some(RawRgb::Bits8(c)), Some(RawRgb::Bits8(acc))) => acc.extend(masked(&c, &kept)),
+            (Some(RawRgb::Bits16(c)), Some(RawRgb::Bits16(acc))) => acc.extend(masked(&c, &kept)),
             (Some(RawRgb::Bits8(c)), acc @ None) => {
-                let c = c.into_iter().zip(&kept).filter(|(_, k)| **k);
-                *acc = Some(RawRgb::Bits8(c.map(|(c, _)| c).collect()));
+                *acc = Some(RawRgb::Bits8(masked(&c, &kept).collect()));
             }
             (Some(RawRgb::Bits16(c)), acc @ None) => {
-                let c = c.into_iter().zip(&kept).filter(|(_, k)| **k);
-                *acc = Some(RawRgb::Bits16(c.map(|(c, _)| c).collect()));
+                *acc = Some(RawRgb::Bits16(masked(&c, &kept).collect()));
             }
             // A reader keeps one colour kind per file.
             _ => {}
         }
-        io::keep_kept(raw.intensity, &kept, &mut self.intensity);
-        io::keep_kept(raw.classification, &kept, &mut self.classification);
-        io::keep_kept(raw.radius, &kept, &mut self.radius);
+        extend_masked(&mut self.intensity, raw.intensity.as_deref(), &kept);
+        extend_masked(
+            &mut self.classification,
+            raw.classification.as_deref(),
+            &kept,
+        );
+        extend_masked(&mut self.radius, raw.radius.as_deref(), &kept);
     }
 }
 
@@ -350,18 +316,7 @@ fn plan_sampled(
         .as_ref()
         .and_then(RawRgb::max_16)
         .map_or(ColorScale::Direct8, ColorScale::detect_16);
-    let default_radius = LoadOptions::default().default_radius;
-    let radii = match sample.radius {
-        Some(mut r) => {
-            for x in &mut r {
-                if !(x.is_finite() && *x > 0.0) {
-                    *x = default_radius;
-                }
-            }
-            Radii::PerPoint(r)
-        }
-        None => Radii::Uniform(default_radius),
-    };
+    let radii = Radii::from_file(sample.radius, LoadOptions::default().default_radius);
     let mut scene = Scene {
         origin,
         positions: sample
@@ -385,22 +340,22 @@ fn plan_sampled(
             let extent = (extent_hi - extent_lo).truncate().max_element() as f32;
             origin
                 + placement::ground_camera_position(&scene, centre, extent).ok_or_else(|| {
-                    StreamError::CameraPlacement {
+                    PrepareError::CameraPlacement {
                         path: path.to_path_buf(),
                     }
                 })?
         }
     };
     scene.recenter(camera);
-    let (radius, keep_file_radii) = apply_radius(&mut scene, options.radius);
+    let radii = radius::apply_choice(&mut scene, options.radius);
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
         declared,
         up,
         camera,
-        radius,
-        keep_file_radii,
+        radius: radii.radius,
+        keep_file_radii: radii.keep_file_radii,
         color,
         color_scale,
         surveyed: sample.read,
@@ -412,8 +367,6 @@ fn plan_sampled(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cli::args::UpArg;
-    use crate::cli::prepare::prepare;
     use crate::render::base_colors;
 
     fn shared(rel: &str) -> PathBuf {
@@ -423,7 +376,7 @@ mod tests {
     }
 
     /// A file small enough to be read whole is planned exactly as the in-core path
-    /// (`cli::prepare` + `base_colors`) would render it: same camera, radii, positions and
+    /// ([`prepare`] + `base_colors`) would render it: same camera, radii, positions and
     /// colours.
     #[test]
     fn small_files_are_planned_exactly_as_in_core() {
@@ -483,7 +436,16 @@ mod tests {
                 ..PlanOptions::default()
             };
             let plan = plan(&path, &options, &ProgressBar::hidden()).unwrap();
-            let core = prepare(&path, camera, UpArg::Z, radius, |_| {}).unwrap();
+            let core = prepare(
+                &path,
+                &PrepareOptions {
+                    camera,
+                    up: Up::Z,
+                    radius,
+                },
+                &ProgressBar::hidden(),
+            )
+            .unwrap();
             let name = path.display();
             assert_eq!(plan.camera, core.camera_world, "{name}");
             let whole = plan.whole.as_ref().expect("a small file is read whole");

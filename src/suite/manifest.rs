@@ -1,12 +1,12 @@
 //! `suite.json`: what each suite scene is, where its file is, and how to view it.
 
 use std::path::{Path, PathBuf};
+use std::str::FromStr;
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::parse;
-use crate::projection::{Camera, OdsOffset, PoleMerging, Stereo};
+use crate::projection::{Camera, Equirect, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use crate::render::{ColorMode, RenderSettings};
 
 use super::SuiteError;
@@ -69,10 +69,10 @@ impl ManifestEntry {
         Ok(match self.stereo {
             SuiteStereo::Mono => Stereo::Mono,
             SuiteStereo::Ods => Stereo::Ods {
-                ipd: parse::ipd(&self.ipd.to_string()).map_err(bad)?,
+                ipd: Stereo::check_ipd(self.ipd).map_err(bad)?,
                 merging: PoleMerging {
-                    north: parse::pole_merge(&self.pole_merge_north).map_err(bad)?,
-                    south: parse::pole_merge(&self.pole_merge_south).map_err(bad)?,
+                    north: PoleMerge::from_str(&self.pole_merge_north).map_err(bad)?,
+                    south: PoleMerge::from_str(&self.pole_merge_south).map_err(bad)?,
                 },
                 offset: OdsOffset::Exact,
             },
@@ -82,7 +82,7 @@ impl ManifestEntry {
     /// The accuracy setup for this view (unlit file colours, DESIGN §5) for a scene whose
     /// local frame starts at `scene_origin` (file coordinates).
     pub fn settings(&self, scene_origin: DVec3) -> Result<RenderSettings, SuiteError> {
-        parse::width(&self.width.to_string()).map_err(|reason| SuiteError::BadEntry {
+        Equirect::check_width(self.width).map_err(|reason| SuiteError::BadEntry {
             name: self.name.clone(),
             reason,
         })?;

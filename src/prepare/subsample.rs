@@ -11,9 +11,10 @@
 //! `asin(ipd/2 / d)`, under a pixel for every point farther than `ipd/2 / pixel angle`
 //! (5.0 m at 3840 px wide), i.e. for nearly all sub-pixel points.
 
+use std::str::FromStr;
+
 use crate::projection::{Camera, Equirect, equirect};
-use crate::scene::{Attributes, Radii, Scene};
-use glam::DVec3;
+use crate::scene::Scene;
 
 /// Sub-pixel points kept per pixel, nearest first. Measured on autzen_trim and the lion scan
 /// (see tests/robust_subsample.rs): 1 loses visible coverage where the nearest centre misses
@@ -29,45 +30,21 @@ pub enum Subsample {
     Auto,
 }
 
-/// Parses `N` (a positive integer) or `auto`.
-///
-/// # Errors
-/// A message saying what is wrong with the value.
-pub fn parse(s: &str) -> Result<Subsample, String> {
-    let t = s.trim();
-    if t.eq_ignore_ascii_case("auto") {
-        return Ok(Subsample::Auto);
-    }
-    match t.parse::<u64>() {
-        Ok(n) if n >= 1 => Ok(Subsample::Every(n)),
-        _ => Err(format!(
-            "'{s}' is neither a positive whole number (keep every N-th point) nor 'auto'"
-        )),
-    }
-}
+/// `N` (a positive integer) or `auto`.
+impl FromStr for Subsample {
+    type Err = String;
 
-/// Keeps the points whose `keep` flag is set, with their radii and attributes.
-pub fn retain(scene: &Scene, keep: &[bool]) -> Scene {
-    fn pick<T: Copy>(v: &[T], keep: &[bool]) -> Vec<T> {
-        v.iter()
-            .zip(keep)
-            .filter(|(_, k)| **k)
-            .map(|(x, _)| *x)
-            .collect()
-    }
-    let a = &scene.attributes;
-    Scene {
-        origin: scene.origin,
-        positions: pick(&scene.positions, keep),
-        radii: match &scene.radii {
-            Radii::Uniform(r) => Radii::Uniform(*r),
-            Radii::PerPoint(v) => Radii::PerPoint(pick(v, keep)),
-        },
-        attributes: Attributes {
-            rgb: a.rgb.as_deref().map(|v| pick(v, keep)),
-            intensity: a.intensity.as_deref().map(|v| pick(v, keep)),
-            classification: a.classification.as_deref().map(|v| pick(v, keep)),
-        },
+    fn from_str(s: &str) -> Result<Self, String> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("auto") {
+            return Ok(Subsample::Auto);
+        }
+        match t.parse::<u64>() {
+            Ok(n) if n >= 1 => Ok(Subsample::Every(n)),
+            _ => Err(format!(
+                "'{s}' is neither a positive whole number (keep every N-th point) nor 'auto'"
+            )),
+        }
     }
 }
 
@@ -120,25 +97,21 @@ pub fn apply(scene: &Scene, how: Subsample, camera: &Camera, image: Equirect) ->
         Subsample::Every(n) => every_nth(scene.len(), n),
         Subsample::Auto => auto_keep(scene, camera, image),
     };
-    retain(scene, &keep)
-}
-
-/// The camera centre as a local position for [`auto_keep`], from its world position.
-pub fn local_camera(scene: &Scene, world: DVec3, yaw_deg: f64) -> Camera {
-    Camera::new(world - scene.origin, yaw_deg)
+    scene.select(&keep)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3;
+    use crate::scene::Radii;
+    use glam::{DVec3, Vec3};
 
     #[test]
     fn parses_counts_and_auto() {
-        assert_eq!(parse("3"), Ok(Subsample::Every(3)));
-        assert_eq!(parse("AUTO"), Ok(Subsample::Auto));
+        assert_eq!("3".parse(), Ok(Subsample::Every(3)));
+        assert_eq!("AUTO".parse(), Ok(Subsample::Auto));
         for bad in ["0", "-2", "1.5", "", "all"] {
-            assert!(parse(bad).is_err(), "{bad}");
+            assert!(bad.parse::<Subsample>().is_err(), "{bad}");
         }
     }
 
@@ -155,7 +128,12 @@ mod tests {
         );
         s.attributes.intensity = Some(vec![0, 1, 2, 3, 4]);
         s.radii = Radii::PerPoint(vec![1.0, 2.0, 3.0, 4.0, 5.0]);
-        let t = retain(&s, &every_nth(5, 2));
+        let t = apply(
+            &s,
+            Subsample::Every(2),
+            &Camera::new(DVec3::ZERO, 0.0),
+            Equirect::from_width(16),
+        );
         assert_eq!(t.len(), 3);
         assert_eq!(t.attributes.intensity, Some(vec![0, 2, 4]));
         assert_eq!(t.radii, Radii::PerPoint(vec![1.0, 3.0, 5.0]));

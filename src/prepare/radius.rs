@@ -1,4 +1,4 @@
-//! Automatic sphere radius from the point spacing.
+//! Sphere radii: the `--radius` rule, and the automatic radius from the point spacing.
 //!
 //! The spacing is the median distance from a point to its nearest distinct neighbour. Half
 //! of it is the default radius: spheres of neighbouring points then just touch, so sampled
@@ -10,11 +10,13 @@
 //! all points, which costs O(n) to build.
 
 use std::collections::HashMap;
+use std::str::FromStr;
 
 use glam::{IVec3, Vec3};
 use rayon::prelude::*;
 
-use crate::scene::Scene;
+use crate::io::LoadOptions;
+use crate::scene::{Radii, Scene};
 
 /// A sphere radius choice (`--radius`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,6 +25,48 @@ pub enum RadiusChoice {
     Fixed(f32),
     /// Half the median nearest-neighbour spacing ([`auto_radius`]).
     Auto,
+}
+
+/// `M` metres (positive) or `auto`.
+impl FromStr for RadiusChoice {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim().eq_ignore_ascii_case("auto") {
+            return Ok(RadiusChoice::Auto);
+        }
+        let v = crate::value::positive_metres(s).map_err(|e| format!("{e} (or `auto`)"))?;
+        Ok(RadiusChoice::Fixed(v as f32))
+    }
+}
+
+/// The radii [`apply_choice`] gave a scene, for sizing later points of the same file alike.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RadiusRule {
+    /// Radius of every point without a radius of its own, metres.
+    pub radius: f32,
+    /// The file's per-point radii are kept.
+    pub keep_file_radii: bool,
+}
+
+/// Sizes the spheres of a freshly loaded `scene`: a fixed radius; `auto` ([`auto_radius`]);
+/// or, with no choice, the file's per-point radii when the scene has them, else `auto`.
+pub fn apply_choice(scene: &mut Scene, choice: Option<RadiusChoice>) -> RadiusRule {
+    let (radius, keep_file_radii) = match choice {
+        Some(RadiusChoice::Fixed(r)) => (r, false),
+        // The loader gave invalid per-point radii its default radius.
+        None if matches!(scene.radii, Radii::PerPoint(_)) => {
+            (LoadOptions::default().default_radius, true)
+        }
+        Some(RadiusChoice::Auto) | None => (auto_radius(scene), false),
+    };
+    if !keep_file_radii {
+        scene.radii = Radii::Uniform(radius);
+    }
+    RadiusRule {
+        radius,
+        keep_file_radii,
+    }
 }
 
 /// Most points whose nearest neighbour is searched.
@@ -248,6 +292,29 @@ mod tests {
         scene.positions.extend(copy);
         let s = median_spacing(&scene).unwrap();
         assert!((s - 0.05).abs() < 1e-5, "spacing {s}");
+    }
+
+    #[test]
+    fn choices_parse_as_metres_or_auto() {
+        assert_eq!("AUTO".parse(), Ok(RadiusChoice::Auto));
+        assert_eq!("0.25".parse(), Ok(RadiusChoice::Fixed(0.25)));
+        for bad in ["-1", "0", "x", "inf"] {
+            let e = bad.parse::<RadiusChoice>().unwrap_err();
+            assert!(e.ends_with("(or `auto`)"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn the_rule_keeps_file_radii_only_without_a_choice() {
+        let mut scene = grid_scene(20, 20, 1, 0.5);
+        scene.radii = Radii::PerPoint(vec![0.3; scene.len()]);
+        let kept = apply_choice(&mut scene.clone(), None);
+        assert!(kept.keep_file_radii);
+        let fixed = apply_choice(&mut scene, Some(RadiusChoice::Fixed(0.1)));
+        assert_eq!((fixed.radius, fixed.keep_file_radii), (0.1, false));
+        assert_eq!(scene.radii, Radii::Uniform(0.1));
+        let auto = apply_choice(&mut scene, None);
+        assert!((auto.radius - 0.25).abs() < 1e-5 && scene.radii == Radii::Uniform(auto.radius));
     }
 
     #[test]

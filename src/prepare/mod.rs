@@ -1,0 +1,93 @@
+//! Scene preparation: a scan read, its frame centred on the camera and its sphere radii
+//! chosen. [`prepare`] is the one path the render command, the stream plan and the benchmark
+//! take; [`subsample`] thins a prepared scene for a given render.
+
+pub mod placement;
+pub mod radius;
+pub mod subsample;
+
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use indicatif::ProgressBar;
+
+use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_scene_with_progress};
+use crate::scene::Scene;
+
+pub use radius::{RadiusChoice, RadiusRule};
+pub use subsample::Subsample;
+
+/// What preparation may be told; the rest is decided from the file.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PrepareOptions {
+    /// Camera world position (file coordinates); `None` = automatic
+    /// ([`placement::auto_camera_position`]).
+    pub camera: Option<DVec3>,
+    /// Up axis of the file.
+    pub up: Up,
+    /// Sphere radius; `None` = the file's per-point radii when it has them, else auto
+    /// ([`radius::apply_choice`]).
+    pub radius: Option<RadiusChoice>,
+}
+
+/// A scan ready to render: its local frame centred on the camera.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    /// The scene, camera at the local origin.
+    pub scene: Scene,
+    /// The camera's position in file coordinates.
+    pub camera_world: DVec3,
+    /// How the spheres were sized.
+    pub radii: RadiusRule,
+    /// What loading did (points read and dropped, colour scale), for the caller to report.
+    pub report: LoadReport,
+}
+
+/// Why a scan could not be prepared.
+#[derive(Debug, thiserror::Error)]
+pub enum PrepareError {
+    /// Reading the file failed, or it holds no usable point (the error names the file).
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    /// No camera position could be found on the points.
+    #[error(
+        "{}: could not place the camera automatically (no usable ground near the centre); pass --camera X,Y,Z",
+        path.display()
+    )]
+    CameraPlacement {
+        /// The file.
+        path: PathBuf,
+    },
+}
+
+/// Loads `path`, places the camera (given, or automatic) at the local origin and sizes the
+/// spheres by the radius rule. `progress` counts the point records read.
+///
+/// # Errors
+/// A [`LoadError`] (also when no point has usable coordinates), or
+/// [`PrepareError::CameraPlacement`].
+pub fn prepare(
+    path: &Path,
+    options: &PrepareOptions,
+    progress: &ProgressBar,
+) -> Result<Prepared, PrepareError> {
+    let load = LoadOptions {
+        origin: options.camera,
+        up: options.up,
+        ..LoadOptions::default()
+    };
+    let (mut scene, report) = load_scene_with_progress(path, &load, progress)?;
+    let camera_world =
+        placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
+            PrepareError::CameraPlacement {
+                path: path.to_path_buf(),
+            }
+        })?;
+    let radii = radius::apply_choice(&mut scene, options.radius);
+    Ok(Prepared {
+        scene,
+        camera_world,
+        radii,
+        report,
+    })
+}
