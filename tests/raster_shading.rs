@@ -7,10 +7,10 @@ mod raster_common;
 
 use glam::DVec3;
 use indicatif::ProgressBar;
-use omnicloud::io::{LoadOptions, load_scene};
+use omnicloud::prepare::{PrepareOptions, prepare};
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
-use omnicloud::{Radii, Scene, placement, radius, raytrace};
+use omnicloud::{Scene, raytrace};
 
 /// Least share of commonly covered pixels whose colour is equal.
 const EQUAL_SHARE: f64 = 0.999;
@@ -40,10 +40,13 @@ fn ods() -> Stereo {
 
 fn autzen() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
-    let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, None).expect("camera placed");
-    scene.radii = Radii::Uniform(radius::auto_radius(&scene));
-    scene
+    prepare(
+        path.as_ref(),
+        &PrepareOptions::default(),
+        &indicatif::ProgressBar::hidden(),
+    )
+    .expect("sample loads")
+    .scene
 }
 
 /// Renders `scene` with both renderers in each shading mode, mono and ODS, and checks the
