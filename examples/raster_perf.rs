@@ -7,6 +7,7 @@
 //! cloud). Prints the adapter, the timing source (GPU timestamps or wall clock) and, per
 //! mode, mono and ODS frame times.
 
+use clap::{Parser, ValueEnum};
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
@@ -45,25 +46,51 @@ fn cloud(n: usize) -> Scene {
     }
 }
 
+/// Frame times of the rasterizer per proxy/imposter mode on a generated cloud.
+#[derive(Parser)]
+struct Args {
+    /// Points in the generated cloud.
+    #[arg(default_value_t = 1_000_000)]
+    points: usize,
+    /// Image width per eye.
+    #[arg(default_value_t = 1920)]
+    width: u32,
+    /// Frames per mode (the best is printed).
+    #[arg(default_value_t = 3)]
+    frames: usize,
+    /// Modes to time, comma-separated `proxy-imposter` names (e.g. bounds-raycast,quad-sprite)
+    /// [every mode].
+    modes: Option<String>,
+    /// The compute splat's limit in pixels (0: off) [the rasterizer's default].
+    splat: Option<u32>,
+    /// `rt`: also time the CPU ray tracer on the same cloud.
+    rt: Option<RayTracer>,
+}
+
+/// The one value of the last argument.
+#[derive(Clone, Copy, ValueEnum)]
+enum RayTracer {
+    Rt,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().collect();
-    let points: usize = args
-        .get(1)
-        .map(|s| s.parse())
-        .transpose()?
-        .unwrap_or(1_000_000);
-    let width: u32 = args.get(2).map(|s| s.parse()).transpose()?.unwrap_or(1920);
-    let frames: usize = args.get(3).map(|s| s.parse()).transpose()?.unwrap_or(3);
-    let modes: Option<Vec<String>> = args
-        .get(4)
-        .map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
+    let Args {
+        points,
+        width,
+        frames,
+        modes,
+        splat,
+        rt,
+    } = Args::parse();
+    let modes: Option<Vec<String>> =
+        modes.map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
     let t0 = std::time::Instant::now();
     let mut raster = Rasterizer::new()?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
-    if let Some(limit) = args.get(5) {
-        raster.set_splat_limit(limit.parse()?);
+    if let Some(limit) = splat {
+        raster.set_splat_limit(limit);
     }
-    let with_ray_tracer = args.get(6).is_some_and(|a| a == "rt");
+    let with_ray_tracer = rt.is_some();
     println!(
         "adapter: {} (device and pipelines: {setup_ms:.0} ms)",
         raster.adapter_name()

@@ -14,43 +14,66 @@
 
 use std::time::Instant;
 
+use clap::{Parser, ValueEnum};
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
+use omnicloud::memory::{format_size, peak_resident};
 use omnicloud::prepare::radius::auto_radius;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerging, Stereo};
 use omnicloud::raytrace::{BvhBuildParams, Tracer, render_with_tracer};
 use omnicloud::render::RenderSettings;
 use omnicloud::{Radii, Scene};
 
+/// Ray tracer throughput: BVH build time, BVH memory, rays per second and peak memory.
+#[derive(Parser)]
+struct Args {
+    /// `autzen` (a LAS/LAZ file) or `generated` (synthetic terrain).
+    #[arg(value_enum, default_value = "autzen")]
+    scene: SceneKind,
+    /// autzen: the file [../shared/data/las/autzen_trim.laz]; generated: the point count
+    /// [5000000].
+    source: Option<String>,
+    /// Image width per eye.
+    #[arg(long, default_value_t = 3840)]
+    width: u32,
+    /// One eye instead of an ODS pair.
+    #[arg(long)]
+    mono: bool,
+    /// BVH build preset.
+    #[arg(long, value_enum, default_value = "medium")]
+    preset: Preset,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SceneKind {
+    Autzen,
+    Generated,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Preset {
+    Fastest,
+    Fast,
+    Medium,
+    Slow,
+}
+
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut width = 3840u32;
-    let mut stereo = true;
-    let mut preset = "medium".to_string();
-    let mut positional = Vec::new();
-    let mut it = args.iter();
-    while let Some(a) = it.next() {
-        match a.as_str() {
-            "--width" => width = it.next().ok_or(anyhow::anyhow!("--width W"))?.parse()?,
-            "--mono" => stereo = false,
-            "--preset" => preset = it.next().ok_or(anyhow::anyhow!("--preset NAME"))?.clone(),
-            _ => positional.push(a.clone()),
-        }
-    }
+    let args = Args::parse();
+    let (width, stereo) = (args.width, !args.mono);
     let t0 = Instant::now();
-    let mut scene = match positional.first().map(String::as_str) {
-        Some("generated") => {
-            let n: usize = positional.get(1).map_or(Ok(5_000_000), |s| s.parse())?;
+    let mut scene = match args.scene {
+        SceneKind::Generated => {
+            let n: usize = args.source.as_deref().map_or(Ok(5_000_000), str::parse)?;
             generated(n)
         }
-        Some("autzen") | None => {
+        SceneKind::Autzen => {
             let default = concat!(
                 env!("CARGO_MANIFEST_DIR"),
                 "/../shared/data/las/autzen_trim.laz"
             );
-            load_las(positional.get(1).map_or(default, String::as_str))?
+            load_las(args.source.as_deref().unwrap_or(default))?
         }
-        Some(other) => anyhow::bail!("unknown scene {other}: autzen [PATH] | generated N"),
     };
     let load_s = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
@@ -62,12 +85,11 @@ fn main() -> anyhow::Result<()> {
         0.0,
     );
 
-    let params = match preset.as_str() {
-        "fastest" => BvhBuildParams::fastest_build(),
-        "fast" => BvhBuildParams::fast_build(),
-        "medium" => BvhBuildParams::medium_build(),
-        "slow" => BvhBuildParams::slow_build(),
-        other => anyhow::bail!("unknown preset {other}: fastest | fast | medium | slow"),
+    let params = match args.preset {
+        Preset::Fastest => BvhBuildParams::fastest_build(),
+        Preset::Fast => BvhBuildParams::fast_build(),
+        Preset::Medium => BvhBuildParams::medium_build(),
+        Preset::Slow => BvhBuildParams::slow_build(),
     };
     let tracer = Tracer::with_params(&scene, params)?;
     let mem = tracer.memory();
@@ -92,16 +114,19 @@ fn main() -> anyhow::Result<()> {
     println!("load/generate     {load_s:.2} s");
     println!("auto radius       {radius:.4} m ({radius_s:.2} s)");
     println!(
-        "bvh build         {:.3} s ({preset})",
-        tracer.build_time().as_secs_f64()
+        "bvh build         {:.3} s ({})",
+        tracer.build_time().as_secs_f64(),
+        args.preset
+            .to_possible_value()
+            .map_or_else(String::new, |v| v.get_name().to_owned())
     );
     println!(
-        "bvh memory        {:.1} MiB nodes ({} x 80 B) + {:.1} MiB indices + {:.1} MiB spheres = {:.1} MiB",
-        mib(mem.nodes),
+        "bvh memory        {} nodes ({} x 80 B) + {} indices + {} spheres = {}",
+        format_size(mem.nodes as u64),
         tracer.node_count(),
-        mib(mem.primitive_indices),
-        mib(mem.spheres),
-        mib(mem.total())
+        format_size(mem.primitive_indices as u64),
+        format_size(mem.spheres as u64),
+        format_size(mem.total() as u64)
     );
     println!(
         "image             {}x{} x {} view(s), coverage {:.3}",
@@ -112,21 +137,10 @@ fn main() -> anyhow::Result<()> {
     );
     println!("render            {render_s:.2} s");
     println!("rays per second   {:.2} M", rays as f64 / render_s / 1e6);
-    if let Some(hwm) = peak_memory() {
-        println!("peak memory       {hwm}");
+    if let Some(hwm) = peak_resident() {
+        println!("peak memory       {}", format_size(hwm));
     }
     Ok(())
-}
-
-fn mib(bytes: usize) -> f64 {
-    bytes as f64 / (1024.0 * 1024.0)
-}
-
-/// VmHWM (peak resident set) from /proc, where there is one.
-fn peak_memory() -> Option<String> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    Some(line["VmHWM:".len()..].trim().to_string())
 }
 
 /// A LAS/LAZ/PLY file through the crate's loader (origin at the centre of the bounds).

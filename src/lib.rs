@@ -7,6 +7,7 @@
 pub mod bench;
 pub mod cli;
 pub mod compare;
+pub mod font;
 pub mod frame;
 pub mod io;
 pub mod memory;

@@ -5,6 +5,9 @@
 //! The per-point figures are measured (see [`RAYTRACE_BYTES_PER_POINT`]); the estimate is the
 //! peak, which comes while the BVH is built, not what stays resident while tracing.
 
+use bytesize::ByteSize;
+use sysinfo::{MemoryRefreshKind, RefreshKind, System};
+
 use crate::io::FileInfo;
 
 /// Peak bytes per point of `render --renderer raytrace`, reached while the BVH is built.
@@ -29,7 +32,7 @@ pub const RAYTRACE_BYTES_PER_POINT: u64 = 320;
 /// buffers, rayon): measured ~40 MB.
 pub const BASE_BYTES: u64 = 64 << 20;
 
-/// Fraction of `MemAvailable` used when no `--max-memory` is given.
+/// Fraction of the available memory ([`mem_available`]) used when no `--max-memory` is given.
 pub const DEFAULT_FRACTION: f64 = 0.8;
 
 /// What a render is expected to need, bytes.
@@ -184,83 +187,71 @@ fn cap_source(cap_is_default: bool) -> String {
     }
 }
 
-/// Parses a size: a number with an optional binary unit `K`, `M`, `G`, `T` (powers of 1024,
-/// optionally followed by `B` or `iB`, case-insensitive), e.g. `2G`, `800M`, `1.5GiB`, `4096`.
+/// Parses a size: a number with an optional binary unit `K`, `M`, `G`, `T`, `P`, `E` (powers
+/// of 1024, optionally followed by `B` or `iB`, case-insensitive), e.g. `2G`, `800M`,
+/// `1.5GiB`, `4096`.
 ///
 /// # Errors
-/// A message saying what is wrong with the value.
+/// A message naming the value and saying what is wrong with it.
 pub fn parse_size(s: &str) -> Result<u64, String> {
-    let t = s.trim();
-    let lower = t.to_ascii_lowercase();
+    let lower = s.trim().to_ascii_lowercase();
     let body = lower
         .strip_suffix("ib")
         .or_else(|| lower.strip_suffix('b'))
         .unwrap_or(&lower);
-    let (number, unit) = match body.char_indices().last() {
-        Some((i, c)) if c.is_ascii_alphabetic() => (&body[..i], c),
-        _ => (body, ' '),
-    };
-    let scale: u64 = match unit {
-        ' ' => 1,
-        'k' => 1 << 10,
-        'm' => 1 << 20,
-        'g' => 1 << 30,
-        't' => 1 << 40,
-        _ => return Err(format!("'{s}': unknown unit '{unit}' (use K, M, G or T)")),
-    };
-    let value: f64 = number
-        .trim()
-        .parse()
-        .map_err(|_| format!("'{s}' is not a size (e.g. 2G, 800M, 1.5GiB)"))?;
-    let bytes = value * scale as f64;
-    if !(bytes.is_finite() && bytes >= 1.0) {
-        return Err(format!("'{s}': a memory size must be at least one byte"));
-    }
-    if bytes >= u64::MAX as f64 {
-        return Err(format!("'{s}' is too large"));
-    }
-    Ok(bytes as u64)
-}
-
-/// `bytes` as a short human size: `1.5 GiB`, `800.0 MiB`.
-pub fn format_size(bytes: u64) -> String {
-    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
-    let mut v = bytes as f64;
-    let mut unit = 0;
-    while v >= 1024.0 && unit + 1 < UNITS.len() {
-        v /= 1024.0;
-        unit += 1;
-    }
-    if unit == 0 {
-        format!("{bytes} B")
+    // bytesize reads `K`, `M`, `G` as powers of 1000 and `Ki`, `Mi`, `Gi` as powers of 1024;
+    // a memory cap has always meant the binary units, so every unit letter is made binary.
+    let binary = if body.ends_with(|c: char| c.is_ascii_alphabetic()) {
+        format!("{body}iB")
     } else {
-        format!("{v:.1} {}", UNITS[unit])
+        format!("{body}B")
+    };
+    let bytes = binary
+        .parse::<ByteSize>()
+        .map_err(|_| format!("'{s}' is not a size (e.g. 2G, 800M, 1.5GiB)"))?
+        .as_u64();
+    match bytes {
+        0 => Err(format!("'{s}': a memory size must be at least one byte")),
+        // bytesize saturates what does not fit.
+        u64::MAX => Err(format!("'{s}' is too large")),
+        _ => Ok(bytes),
     }
 }
 
-/// `MemAvailable` from `/proc/meminfo`, bytes; `None` where it cannot be read (not Linux).
-pub fn mem_available() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    parse_meminfo_kb(&text, "MemAvailable:").map(|kb| kb * 1024)
+/// `bytes` as a short human size: `1.5 GiB`, `800.0 MiB`, `512 B`.
+pub fn format_size(bytes: u64) -> String {
+    ByteSize::b(bytes).display().iec().to_string()
 }
 
-/// The default cap: [`DEFAULT_FRACTION`] of `MemAvailable`, or no cap when it is unknown.
+/// The memory available to new allocations (`MemAvailable` on Linux), bytes; `None` where the
+/// platform does not report it.
+pub fn mem_available() -> Option<u64> {
+    // Only the RAM figures: no process, CPU or disk scan.
+    let refresh = RefreshKind::nothing().with_memory(MemoryRefreshKind::nothing().with_ram());
+    let system = System::new_with_specifics(refresh).ok()?;
+    Some(system.available_memory()).filter(|&b| b > 0)
+}
+
+/// The default cap: [`DEFAULT_FRACTION`] of the available memory, or no cap when it is
+/// unknown.
 pub fn default_cap() -> Option<u64> {
     mem_available().map(|b| (b as f64 * DEFAULT_FRACTION) as u64)
 }
 
-/// A `NAME:   1234 kB` line of `/proc/meminfo` or `/proc/self/status`, in kB.
-pub fn parse_meminfo_kb(text: &str, name: &str) -> Option<u64> {
+/// Peak resident memory of this process (`VmHWM` of `/proc/self/status`), bytes; `None` where
+/// unavailable (not Linux). Read by hand because sysinfo reports only the current resident
+/// size, and a peak is what bounds a render.
+pub fn peak_resident() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    status_kb(&text, "VmHWM:").map(|kb| kb * 1024)
+}
+
+/// A `NAME:   1234 kB` line of `/proc/self/status`, in kB.
+fn status_kb(text: &str, name: &str) -> Option<u64> {
     text.lines()
         .find_map(|l| l.strip_prefix(name))
         .and_then(|rest| rest.split_whitespace().next())
         .and_then(|v| v.parse().ok())
-}
-
-/// Peak resident memory of this process (`VmHWM`), bytes; `None` where unavailable.
-pub fn peak_resident() -> Option<u64> {
-    let text = std::fs::read_to_string("/proc/self/status").ok()?;
-    parse_meminfo_kb(&text, "VmHWM:").map(|kb| kb * 1024)
 }
 
 /// Why a render was refused before loading.
@@ -316,6 +307,16 @@ mod tests {
         assert_eq!(parse_size("64KB"), Ok(64 << 10));
         assert_eq!(parse_size("4096"), Ok(4096));
         assert_eq!(parse_size(" 1T "), Ok(1 << 40));
+        assert_eq!(parse_size("1.5 g"), Ok(3 << 29));
+        assert_eq!(parse_size("2gb"), Ok(2 << 30));
+        assert_eq!(parse_size("1.5"), Ok(1));
+        assert_eq!(parse_size("1P"), Ok(1 << 50));
+        assert_eq!(
+            parse_size("2X"),
+            Err("'2X' is not a size (e.g. 2G, 800M, 1.5GiB)".into())
+        );
+        assert!(parse_size("0.5").unwrap_err().contains("at least one byte"));
+        assert!(parse_size("99999999E").unwrap_err().contains("too large"));
         for bad in [
             "", "G", "-1G", "0", "2X", "nanG", "infG", "1e30T", "2 G B B",
         ] {
@@ -328,14 +329,28 @@ mod tests {
         assert_eq!(format_size(512), "512 B");
         assert_eq!(format_size(3 << 29), "1.5 GiB");
         assert_eq!(format_size(800 << 20), "800.0 MiB");
+        assert_eq!(format_size(2 << 30), "2.0 GiB");
     }
 
     #[test]
-    fn meminfo_lines_parse() {
-        let text = "MemTotal:       24000000 kB\nMemAvailable:   21000000 kB\n";
-        assert_eq!(parse_meminfo_kb(text, "MemAvailable:"), Some(21_000_000));
-        assert_eq!(parse_meminfo_kb(text, "VmHWM:"), None);
+    fn status_lines_parse() {
+        let text = "VmPeak:   24000000 kB\nVmHWM:   21000000 kB\n";
+        assert_eq!(status_kb(text, "VmHWM:"), Some(21_000_000));
+        assert_eq!(status_kb(text, "VmRSS:"), None);
         assert!(peak_resident().is_some_and(|b| b > 0));
+    }
+
+    #[test]
+    fn available_memory_is_known_and_capped_at_the_default_fraction() {
+        let available = mem_available().expect("sysinfo reports available memory here");
+        let cap = default_cap().expect("a default cap");
+        assert!(available > 64 << 20, "{available}");
+        // Both read the same figure a moment apart; allow for other processes in between.
+        let expected = DEFAULT_FRACTION * available as f64;
+        assert!(
+            (cap as f64 - expected).abs() < 0.05 * expected,
+            "{cap} vs {expected}"
+        );
     }
 
     #[test]

@@ -5,19 +5,28 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
+use clap::Parser;
 use indicatif::{ProgressBar, ProgressDrawTarget};
 
-fn main() -> Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let [out, points] = args.as_slice() else {
-        bail!("usage: gen_big_las OUT.las|OUT.laz POINTS");
-    };
-    let out = PathBuf::from(out);
-    let points: u64 = points
-        .replace('_', "")
+/// Writes a large synthetic LAS (or LAZ) scan.
+#[derive(Parser)]
+struct Args {
+    /// The file to write; `.laz` compresses.
+    out: PathBuf,
+    /// Points to write (`_` separators allowed: 50_000_000).
+    #[arg(value_parser = point_count)]
+    points: u64,
+}
+
+fn point_count(s: &str) -> Result<u64, String> {
+    s.replace('_', "")
         .parse()
-        .with_context(|| format!("'{points}' is not a point count"))?;
+        .map_err(|_| format!("'{s}' is not a point count"))
+}
+
+fn main() -> Result<()> {
+    let Args { out, points } = Args::parse();
     let progress = ProgressBar::with_draw_target(Some(points), ProgressDrawTarget::stderr());
     omnicloud::synthetic::write_ground_las(&out, points, &progress)
         .with_context(|| format!("writing {}", out.display()))?;

@@ -3,12 +3,18 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use clap::Parser;
+
+/// Regenerates the stability suite's scenes.
+#[derive(Parser)]
+struct Args {
+    /// Folder to write the scenes into.
+    #[arg(default_value = "data/scenes")]
+    dir: PathBuf,
+}
+
 fn main() -> ExitCode {
-    let dir = PathBuf::from(
-        std::env::args()
-            .nth(1)
-            .unwrap_or_else(|| "data/scenes".into()),
-    );
+    let Args { dir } = Args::parse();
     match omnicloud::suite::write_suite(&dir) {
         Ok(paths) => {
             for p in paths {

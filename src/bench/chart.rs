@@ -1,15 +1,15 @@
 //! Charts with `plotters`: speed against accuracy per mode, and error by latitude band.
 //!
-//! Pure-Rust backends only: bitmap (encoded to PNG by `image`) and SVG; text is drawn with
-//! DejaVu Sans from the `dejavu` crate through `ab_glyph`, so no system font is needed.
+//! Pure-Rust backends only: bitmap (encoded to PNG by `image`) and SVG; text in the embedded
+//! font of [`crate::font`].
 
 use std::ops::Range;
 use std::path::Path;
-use std::sync::Once;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::font::{FONT, register_font};
 use crate::render::Imposter;
 
 use super::report::{BenchReport, TimingKind};
@@ -19,16 +19,6 @@ pub const CHART_SIZE: (u32, u32) = (960, 640);
 
 /// Errors are clamped up to this fraction on log axes, so exact results (0) stay visible.
 pub const ERROR_FLOOR: f64 = 1e-6;
-
-const FONT: &str = "sans-serif";
-
-fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // The embedded DejaVu Sans is a valid TrueType font; a failure would only lose text.
-        let _ = plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
-    });
-}
 
 /// One marker of the speed/accuracy chart.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::BenchError;
 use super::chart::{ChartSummary, write_speed_accuracy_chart};
-use super::report::{BenchReport, csv, markdown};
+use super::report::{BenchReport, markdown, write_csv};
 
 /// The files one benchmark wrote.
 #[derive(Debug, Clone, PartialEq)]
@@ -32,6 +32,19 @@ pub(crate) fn write_file(path: &Path, bytes: &[u8]) -> Result<(), BenchError> {
     })
 }
 
+/// Writes the CSV of `reports` to `path`, naming the file on failure.
+pub(crate) fn write_csv_file<'a>(
+    path: &Path,
+    reports: impl IntoIterator<Item = &'a BenchReport>,
+) -> Result<(), BenchError> {
+    std::fs::File::create(path)
+        .and_then(|file| write_csv(file, reports))
+        .map_err(|source| BenchError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
 /// Creates `dir` if needed, naming it on failure.
 pub(crate) fn create_dir(dir: &Path) -> Result<(), BenchError> {
     std::fs::create_dir_all(dir).map_err(|source| BenchError::Write {
@@ -50,7 +63,7 @@ pub fn write_outputs(report: &BenchReport, dir: &Path) -> Result<BenchFiles, Ben
     })?;
     write_file(&json, &text)?;
     let csv_path = dir.join("bench.csv");
-    write_file(&csv_path, csv(report).as_bytes())?;
+    write_csv_file(&csv_path, [report])?;
     let md = dir.join("bench.md");
     write_file(&md, markdown(report).as_bytes())?;
     let chart_png = dir.join("bench_speed_accuracy.png");

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Serialize, Serializer};
 
 use crate::render::{Imposter, Proxy};
 
@@ -198,56 +198,116 @@ impl BenchReport {
     }
 }
 
-/// The CSV header of [`csv_rows`].
-pub const CSV_HEADER: &str = "scene,points,width,height,stereo,mode,proxy,imposter,frame_ms_median,frame_ms_min,frame_ms_max,fps,timing,frames,coverage_mismatch,iou,depth_rel_p50,depth_rel_p99,depth_rel_max,color_mismatch,psnr_db,culled,drawn,special,seam_copies,vertices";
-
-/// One CSV line per mode (no header), fields as [`CSV_HEADER`] names them.
-pub fn csv_rows(report: &BenchReport) -> String {
-    let mut out = String::new();
-    for m in &report.modes {
-        let a = &m.accuracy;
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.2},{},{},{:.6e},{:.6},{:.3e},{:.3e},{:.3e},{:.6e},{},{},{},{},{},{}",
-            report.scene,
-            report.points,
-            report.width,
-            report.height,
-            report.stereo,
-            m.mode.label(),
-            m.mode.proxy_name(),
-            m.mode.imposter_name(),
-            m.frame_ms,
-            m.frame_ms_min,
-            m.frame_ms_max,
-            m.fps,
-            serde_json::to_value(m.timing)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_default(),
-            report.timed_frames,
-            a.coverage_mismatch,
-            a.iou,
-            a.depth_rel_p50,
-            a.depth_rel_p99,
-            a.depth_rel_max,
-            a.color_mismatch,
-            a.psnr_db
-                .map(|p| format!("{p:.2}"))
-                .unwrap_or_else(|| "inf".into()),
-            m.stats.culled,
-            m.stats.drawn,
-            m.stats.special,
-            m.stats.seam_copies,
-            m.stats.vertices,
-        );
-    }
-    out
+/// One CSV line: a mode of one report. The field names are the column names, in order.
+#[derive(Serialize)]
+struct CsvRow<'a> {
+    scene: &'a str,
+    points: usize,
+    width: u32,
+    height: u32,
+    stereo: &'a str,
+    mode: String,
+    proxy: String,
+    imposter: &'static str,
+    #[serde(serialize_with = "fixed::<4, _>")]
+    frame_ms_median: f64,
+    #[serde(serialize_with = "fixed::<4, _>")]
+    frame_ms_min: f64,
+    #[serde(serialize_with = "fixed::<4, _>")]
+    frame_ms_max: f64,
+    #[serde(serialize_with = "fixed::<2, _>")]
+    fps: f64,
+    timing: TimingKind,
+    frames: usize,
+    #[serde(serialize_with = "scientific::<6, _>")]
+    coverage_mismatch: f64,
+    #[serde(serialize_with = "fixed::<6, _>")]
+    iou: f64,
+    #[serde(serialize_with = "scientific::<3, _>")]
+    depth_rel_p50: f64,
+    #[serde(serialize_with = "scientific::<3, _>")]
+    depth_rel_p99: f64,
+    #[serde(serialize_with = "scientific::<3, _>")]
+    depth_rel_max: f64,
+    #[serde(serialize_with = "scientific::<6, _>")]
+    color_mismatch: f64,
+    /// `inf` when the images are identical.
+    #[serde(serialize_with = "psnr")]
+    psnr_db: Option<f64>,
+    culled: u64,
+    drawn: u64,
+    special: u64,
+    seam_copies: u64,
+    vertices: u64,
 }
 
-/// The whole CSV file of one report.
-pub fn csv(report: &BenchReport) -> String {
-    format!("{CSV_HEADER}\n{}", csv_rows(report))
+impl<'a> CsvRow<'a> {
+    fn new(report: &'a BenchReport, m: &ModeResult) -> CsvRow<'a> {
+        let a = &m.accuracy;
+        CsvRow {
+            scene: &report.scene,
+            points: report.points,
+            width: report.width,
+            height: report.height,
+            stereo: &report.stereo,
+            mode: m.mode.label(),
+            proxy: m.mode.proxy_name(),
+            imposter: m.mode.imposter_name(),
+            frame_ms_median: m.frame_ms,
+            frame_ms_min: m.frame_ms_min,
+            frame_ms_max: m.frame_ms_max,
+            fps: m.fps,
+            timing: m.timing,
+            frames: report.timed_frames,
+            coverage_mismatch: a.coverage_mismatch,
+            iou: a.iou,
+            depth_rel_p50: a.depth_rel_p50,
+            depth_rel_p99: a.depth_rel_p99,
+            depth_rel_max: a.depth_rel_max,
+            color_mismatch: a.color_mismatch,
+            psnr_db: a.psnr_db,
+            culled: m.stats.culled,
+            drawn: m.stats.drawn,
+            special: m.stats.special,
+            seam_copies: m.stats.seam_copies,
+            vertices: m.stats.vertices,
+        }
+    }
+}
+
+/// `v` with `DIGITS` decimals.
+fn fixed<const DIGITS: usize, S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{v:.DIGITS$}"))
+}
+
+/// `v` in scientific notation with `DIGITS` decimals (`4.468918e-3`).
+fn scientific<const DIGITS: usize, S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(&format_args!("{v:.DIGITS$e}"))
+}
+
+fn psnr<S: Serializer>(v: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+    match v {
+        Some(p) => fixed::<2, S>(p, s),
+        None => s.serialize_str("inf"),
+    }
+}
+
+/// Writes the CSV table of `reports` to `out`: a header, then one row per mode of each report
+/// in order (nothing at all when there is no row).
+///
+/// # Errors
+/// The error of writing to `out`.
+pub fn write_csv<'a>(
+    out: impl std::io::Write,
+    reports: impl IntoIterator<Item = &'a BenchReport>,
+) -> std::io::Result<()> {
+    let mut writer = csv::Writer::from_writer(out);
+    for report in reports {
+        for m in &report.modes {
+            writer.serialize(CsvRow::new(report, m))?;
+        }
+    }
+    writer.flush()
 }
 
 /// Percent with enough digits to tell small errors apart.
@@ -402,15 +462,23 @@ pub(crate) mod tests {
 
     #[test]
     fn csv_has_a_row_per_mode_with_every_column() {
-        let text = csv(&sample_report());
+        let mut bytes = Vec::new();
+        write_csv(&mut bytes, [&sample_report()]).unwrap();
+        let text = String::from_utf8(bytes).unwrap();
         let lines: Vec<&str> = text.lines().collect();
         assert_eq!(lines.len(), 11);
-        let columns = CSV_HEADER.split(',').count();
+        // The columns of the committed benchmark files, in their order.
+        let committed = include_str!("../../docs/bench/suite.csv");
+        assert_eq!(lines[0], committed.lines().next().unwrap());
         for l in &lines {
-            assert_eq!(l.split(',').count(), columns, "{l}");
+            assert_eq!(l.split(',').count(), 26, "{l}");
         }
-        assert!(lines[1].contains(",quad+sprite,quad,sprite,2.0000,"));
-        assert!(lines[1].contains(",wall-clock,3,"));
+        assert_eq!(
+            lines[1],
+            "sample,100,64,32,mono,quad+sprite,quad,sprite,2.0000,1.5000,3.0000,500.00,\
+             wall-clock,3,5.000000e-2,0.900000,1.000e-5,1.000e-3,1.000e-2,0.000000e0,30.00,\
+             0,0,0,0,0"
+        );
     }
 
     #[test]

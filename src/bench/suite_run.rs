@@ -15,8 +15,8 @@ use super::BenchError;
 use super::chart::{BandSeries, write_band_chart};
 use super::config::BenchConfig;
 use super::mode::BenchMode;
-use super::outputs::{create_dir, write_file};
-use super::report::{BenchReport, CSV_HEADER, csv_rows, percent};
+use super::outputs::{create_dir, write_csv_file, write_file};
+use super::report::{BenchReport, percent};
 use super::runner::run_bench_with;
 
 /// One suite entry's benchmark.
@@ -201,11 +201,7 @@ pub fn write_suite_outputs(report: &SuiteReport, dir: &Path) -> Result<SuiteFile
     })?;
     write_file(&json, &text)?;
     let csv = dir.join("suite.csv");
-    let mut rows = format!("{CSV_HEADER}\n");
-    for e in &report.entries {
-        rows.push_str(&csv_rows(&e.report));
-    }
-    write_file(&csv, rows.as_bytes())?;
+    write_csv_file(&csv, report.entries.iter().map(|e| &e.report))?;
     let markdown = dir.join("suite.md");
     write_file(&markdown, suite_markdown(report).as_bytes())?;
     let bands_png = dir.join("suite_bands.png");

@@ -17,7 +17,6 @@
 mod error;
 pub mod eyes;
 mod files;
-pub mod font;
 pub mod heatmap;
 mod measure;
 mod report;

@@ -9,15 +9,13 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
+
+use tempfile::NamedTempFile;
 
 use super::OutputError;
 
-/// Distinguishes temporary files of one process written at the same time.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
 /// Temporary files that exist right now, so that an interrupt handler can remove them
-/// ([`remove_staged_files`]).
+/// ([`remove_staged_files`]): the handler exits the process, so no destructor runs.
 static LIVE_TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
 fn live_temps() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
@@ -51,19 +49,44 @@ pub fn remove_staged_files() -> usize {
 /// Dropping it without [`StagedFile::commit`] deletes the temporary file.
 #[derive(Debug)]
 pub struct StagedFile {
-    temp: PathBuf,
+    /// Deletes the file when dropped. Declared before `registered`: fields drop in order, so
+    /// the file is gone before the registry forgets it.
+    temp: NamedTempFile,
+    registered: Registered,
     dest: PathBuf,
-    committed: bool,
 }
 
-/// The temporary name for `dest`: hidden, in the same directory, unique per process and call.
-fn temp_path(dest: &Path) -> PathBuf {
+/// A temporary file's entry in the registry, removed when dropped.
+#[derive(Debug)]
+struct Registered(PathBuf);
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        forget_temp(&self.0);
+    }
+}
+
+/// A hidden temporary file next to `dest` (same directory, so the rename is atomic), named
+/// in the registry before it exists, so an interrupt at any point finds it.
+fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
+    let dir = match dest.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
     let name = dest
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "output".to_owned());
-    let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-    dest.with_file_name(format!(".{name}.{}-{n}.tmp", std::process::id()))
+    let prefix = format!(".{name}.");
+    tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .make_in(dir, |path| {
+            live_temps().push(path.to_path_buf());
+            // A plain create (not `NamedTempFile::new_in`, which makes the file private to its
+            // owner) so that the committed output gets the usual permissions.
+            File::create_new(path).inspect_err(|_| forget_temp(path))
+        })
 }
 
 impl StagedFile {
@@ -73,30 +96,25 @@ impl StagedFile {
         dest: &Path,
         write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
     ) -> Result<StagedFile, OutputError> {
-        let temp = temp_path(dest);
-        // Registered before it exists, so an interrupt at any point finds it.
-        live_temps().push(temp.clone());
-        let file = File::create(&temp).map_err(|source| {
-            forget_temp(&temp);
-            OutputError::Io {
-                path: dest.to_path_buf(),
-                action: "creating temporary file",
-                source,
-            }
+        let temp = create_temp(dest).map_err(|source| OutputError::Io {
+            path: dest.to_path_buf(),
+            action: "creating temporary file",
+            source,
         })?;
-        // From here on, Drop removes the temporary file on every early return.
+        // From here on, dropping `staged` removes the temporary file on every early return.
         let staged = StagedFile {
+            registered: Registered(temp.path().to_path_buf()),
             temp,
             dest: dest.to_path_buf(),
-            committed: false,
         };
-        let mut writer = BufWriter::new(file);
-        write(&mut writer)?;
-        writer.flush().map_err(|source| OutputError::Io {
+        let io_error = |source| OutputError::Io {
             path: dest.to_path_buf(),
             action: "writing",
             source,
-        })?;
+        };
+        let mut writer = BufWriter::new(staged.temp.as_file().try_clone().map_err(io_error)?);
+        write(&mut writer)?;
+        writer.flush().map_err(io_error)?;
         Ok(staged)
     }
 
@@ -106,24 +124,22 @@ impl StagedFile {
     }
 
     /// Renames the temporary file onto the destination and returns the destination.
-    pub fn commit(mut self) -> Result<PathBuf, OutputError> {
-        std::fs::rename(&self.temp, &self.dest).map_err(|source| OutputError::Io {
-            path: self.dest.clone(),
-            action: "renaming temporary file onto",
-            source,
-        })?;
-        self.committed = true;
-        forget_temp(&self.temp);
-        Ok(self.dest.clone())
-    }
-}
-
-impl Drop for StagedFile {
-    fn drop(&mut self) {
-        if !self.committed {
-            // Best effort: the file may already be gone, and Drop cannot report errors.
-            let _ = std::fs::remove_file(&self.temp);
-            forget_temp(&self.temp);
+    pub fn commit(self) -> Result<PathBuf, OutputError> {
+        let StagedFile {
+            temp,
+            registered,
+            dest,
+        } = self;
+        // On failure the temporary file comes back in the error and is deleted with it.
+        let result = temp.persist(&dest).map_err(|e| e.error);
+        drop(registered);
+        match result {
+            Ok(_) => Ok(dest),
+            Err(source) => Err(OutputError::Io {
+                path: dest,
+                action: "renaming temporary file onto",
+                source,
+            }),
         }
     }
 }
