@@ -3,10 +3,18 @@
 //!
 //! The conventions every renderer shares (camera, ODS ray, pole merging, outputs) are in
 //! `DESIGN.md`; [`projection`] implements them.
+//!
+//! Features: `gpu` (the wgpu rasterizer, [`raster`]), `charts` (benchmark charts and the
+//! comparison heatmap), `bench` (both, plus timing runs), `cli` (all of them and the
+//! `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
+//! streams, writes and compares scans.
 
+#[cfg(feature = "bench")]
 pub mod bench;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod compare;
+#[cfg(feature = "charts")]
 pub mod font;
 pub mod frame;
 pub mod io;
@@ -14,6 +22,7 @@ pub mod memory;
 pub mod output;
 pub mod prepare;
 pub mod projection;
+#[cfg(feature = "gpu")]
 pub mod raster;
 pub mod raytrace;
 pub mod render;

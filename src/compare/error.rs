@@ -38,4 +38,10 @@ pub enum CompareError {
         #[source]
         source: serde_json::Error,
     },
+    /// A heatmap was asked of a library built without the `charts` feature.
+    #[error("{path}: drawing a heatmap needs omnicloud's `charts` feature")]
+    NoCharts {
+        /// The heatmap file asked for.
+        path: PathBuf,
+    },
 }

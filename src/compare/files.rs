@@ -4,10 +4,9 @@ use std::io::Write;
 use std::path::Path;
 
 use super::CompareError;
-use super::heatmap::heatmap;
 use super::measure::compare_named;
 use super::report::CompareReport;
-use crate::output::{ImageFormat, OutputError, read_image, write_atomically, write_png_buffer};
+use crate::output::{ImageFormat, OutputError, read_image, write_atomically};
 
 /// Compares `test_path` against `ref_path` (EXR, or PNG without depth), writing the JSON
 /// report to `report` and the heatmap PNG to `heatmap_path` when given (both atomically).
@@ -19,6 +18,11 @@ pub fn compare_files(
 ) -> Result<CompareReport, CompareError> {
     if let Some(p) = heatmap_path {
         // Fail before the (possibly long) comparison, not after.
+        if cfg!(not(feature = "charts")) {
+            return Err(CompareError::NoCharts {
+                path: p.to_path_buf(),
+            });
+        }
         ImageFormat::require(p, ImageFormat::Png)?;
     }
     let reference = read_image(ref_path)?;
@@ -38,8 +42,9 @@ pub fn compare_files(
             })
         })?;
     }
+    #[cfg(feature = "charts")]
     if let Some(path) = heatmap_path {
-        write_png_buffer(path, &heatmap(&reference, &test)?)?;
+        crate::output::write_png_buffer(path, &super::heatmap::heatmap(&reference, &test)?)?;
     }
     Ok(result)
 }

@@ -17,6 +17,7 @@
 mod error;
 pub mod eyes;
 mod files;
+#[cfg(feature = "charts")]
 pub mod heatmap;
 mod measure;
 mod report;
@@ -25,6 +26,7 @@ pub mod stats;
 
 pub use error::CompareError;
 pub use files::compare_files;
+#[cfg(feature = "charts")]
 pub use heatmap::{LegendLayout, heatmap};
 pub use measure::compare;
 pub use report::{CompareReport, EyeReport};
