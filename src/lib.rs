@@ -17,6 +17,7 @@ pub mod radius;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod stream;
 pub mod subsample;

@@ -17,7 +17,8 @@ use omnicloud::projection::{
     Camera, Eye, OdsOffset, PoleMerge, PoleMerging, Stereo, View, equirect,
 };
 use omnicloud::render::RenderSettings;
-use raster_common::{Rng, rasterizer};
+use omnicloud::rng::SplitMix64 as Rng;
+use raster_common::rasterizer;
 
 const ANGLE_TOL: f64 = 2e-5;
 
