@@ -87,9 +87,12 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
         let (r, stats) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
         let a = compare(left_frame(&r), &reference, &colors, &s);
         eprintln!(
-            "{proxy:?}+{imposter:?}: coverage error total {:.4}%, poles {:.4}%, seam {:.4}%, depth p99 {:.2e} ({} vertices)",
+            "{proxy:?}+{imposter:?}: coverage error total {} px {:.4}%, poles {} px {:.4}%, seam {} px {:.4}%, depth p99 {:.2e} ({} vertices)",
+            a.all().mismatch,
             100.0 * a.coverage_fraction(),
+            a.pole().0,
             100.0 * a.pole_fraction(),
+            a.regions.seam.mismatch,
             100.0 * a.seam_fraction(),
             a.depth_rel_p99(),
             stats.vertices
@@ -97,12 +100,18 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
         results.push((proxy, imposter, a));
     }
     let bounds = &results[0].2;
-    assert!(bounds.coverage_fraction() <= 1e-3);
+    // Measured on lavapipe: bounds 0 px; the billboards 1.77-5.10 % of all pixels, the quad
+    // 151 and 1051 px in the polar caps and 17 and 57 px in the seam columns.
+    assert!(
+        bounds.all().mismatch <= 8,
+        "bounds: {}",
+        bounds.all().mismatch
+    );
     for (proxy, imposter, a) in &results[1..] {
         // Every billboard under-covers near spheres (a square of half-size r subtends
         // atan(r/d) < asin(r/d)) and bows at high latitude: a real, chartable difference.
         assert!(
-            a.coverage_fraction() > 0.005 && a.all().mismatch > 20 * bounds.all().mismatch.max(1),
+            a.coverage_fraction() > 0.015 && a.all().mismatch > 20 * bounds.all().mismatch.max(1),
             "{proxy:?}+{imposter:?}: total {} vs bounds {}",
             a.all().mismatch,
             bounds.all().mismatch
@@ -115,13 +124,13 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
             continue;
         }
         assert!(
-            a.pole().0 > bounds.pole().0 + 20,
+            a.pole().0 > bounds.pole().0 + 120,
             "{proxy:?}+{imposter:?} poles: {} vs bounds {}",
             a.pole().0,
             bounds.pole().0
         );
         assert!(
-            a.regions.seam.mismatch > bounds.regions.seam.mismatch + 10,
+            a.regions.seam.mismatch > bounds.regions.seam.mismatch + 12,
             "{proxy:?}+{imposter:?} seam: {} vs bounds {}",
             a.regions.seam.mismatch,
             bounds.regions.seam.mismatch
