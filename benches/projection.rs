@@ -6,7 +6,7 @@ use glam::DVec3;
 use omnicloud::projection::{
     Camera, Equirect, Eye, OdsOffset, PoleMerge, PoleMerging, Stereo, View,
 };
-use omnicloud::suite::SplitMix64;
+use omnicloud::rng::SplitMix64;
 use std::hint::black_box;
 
 fn views() -> [(&'static str, View); 2] {

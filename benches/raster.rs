@@ -1,19 +1,17 @@
-//! One GPU frame per rasterizer mode (scene uploaded once). Skips loudly without an adapter.
+//! One GPU frame per rasterizer mode (scene uploaded once). Without an adapter it skips
+//! loudly, or fails when `OMNICLOUD_REQUIRE_GPU` is set; any other GPU error fails.
 
 mod common;
+#[path = "../tests/raster_common/gpu.rs"]
+mod gpu;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use indicatif::ProgressBar;
 use omnicloud::bench::BenchMode;
-use omnicloud::raster::Rasterizer;
 
 fn bench(c: &mut Criterion) {
-    let raster = match Rasterizer::new() {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("\n*** SKIPPING GPU benches: {e} ***\n");
-            return;
-        }
+    let Some(raster) = gpu::rasterizer() else {
+        return;
     };
     eprintln!("GPU benches on {}", raster.adapter_name());
     let (scene, settings) = common::street(512);

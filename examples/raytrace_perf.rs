@@ -22,6 +22,7 @@ use omnicloud::prepare::radius::auto_radius;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerging, Stereo};
 use omnicloud::raytrace::{BvhBuildParams, Tracer, render_with_tracer};
 use omnicloud::render::RenderSettings;
+use omnicloud::rng::SplitMix64;
 use omnicloud::{Radii, Scene};
 
 /// Ray tracer throughput: BVH build time, BVH memory, rays per second and peak memory.
@@ -152,13 +153,8 @@ fn load_las(path: &str) -> anyhow::Result<Scene> {
 /// `n` points: 85 % rolling terrain over a square sized for ~4 points/m², 15 % on the walls
 /// of box buildings; jittered so the spacing is irregular like a scan.
 fn generated(n: usize) -> Scene {
-    let mut rng = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        rng ^= rng << 13;
-        rng ^= rng >> 7;
-        rng ^= rng << 17;
-        (rng >> 11) as f32 / (1u64 << 53) as f32
-    };
+    let mut rng = SplitMix64::new(0x2545_f491_4f6c_dd1d);
+    let mut next = move || rng.next_f64() as f32;
     let ground_n = n * 85 / 100;
     let side = (ground_n as f32 / 4.0).sqrt();
     let height = |x: f32, y: f32| 3.0 * (x / 80.0).sin() * (y / 110.0).cos() + 0.02 * x;

@@ -26,6 +26,7 @@ pub mod projection;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
+pub mod rng;
 pub mod scene;
 pub mod stream;
 pub mod suite;

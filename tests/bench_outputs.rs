@@ -6,6 +6,7 @@ mod raster_common;
 use omnicloud::bench::{
     BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
 };
+use omnicloud::render::Imposter;
 use omnicloud::suite::scenes;
 
 #[test]
@@ -32,7 +33,29 @@ fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
     );
     for m in &report.modes {
         assert!(m.frame_ms > 0.0 && m.frame_ms_min <= m.frame_ms && m.frame_ms <= m.frame_ms_max);
-        assert!((0.0..=1.0).contains(&m.accuracy.coverage_mismatch));
+        eprintln!(
+            "{}: coverage mismatch {:.3e}, IoU {:.4}, depth p99 {:.2e}, colour mismatch {:.3e}, PSNR {:?}, seam {:?}",
+            m.mode.label(),
+            m.accuracy.coverage_mismatch,
+            m.accuracy.iou,
+            m.accuracy.depth_rel_p99,
+            m.accuracy.color_mismatch,
+            m.accuracy.psnr_db,
+            m.accuracy.seam
+        );
+        // Measured (lavapipe): no coverage mismatch in any mode at this size; depth p99 2.5e-7
+        // ray cast, 7.0e-3 to 2.7e-2 for sprites (their depth is the billboard's).
+        let a = &m.accuracy;
+        assert!(a.coverage_mismatch <= 1e-3, "{}: coverage", m.mode.label());
+        let p99 = a.depth_rel_p99;
+        match m.mode.imposter {
+            Imposter::Raycast => assert!(p99 <= 1e-6, "{}: depth p99 {p99}", m.mode.label()),
+            Imposter::Sprite => assert!(
+                (3e-3..6e-2).contains(&p99),
+                "{}: depth p99 {p99}",
+                m.mode.label()
+            ),
+        }
         assert_eq!(
             m.accuracy.bands.iter().map(|b| b.pixels).sum::<u64>(),
             128 * 64

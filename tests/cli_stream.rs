@@ -1,8 +1,11 @@
 //! `omnicloud render` on the streamed raster path, as a user runs it: what it prints, what it
 //! refuses before starting, and what an interrupt leaves behind.
 
-use std::process::{Command, Output, Stdio};
-use std::time::Duration;
+#[path = "raster_common/gpu.rs"]
+mod gpu;
+mod interrupt_common;
+
+use std::process::{Command, Output};
 
 fn omnicloud(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_omnicloud"))
@@ -11,19 +14,17 @@ fn omnicloud(args: &[&str]) -> Output {
         .unwrap()
 }
 
-/// True (after a loud message) when the render failed only for want of a GPU adapter outside
-/// CI; in CI that is a failure.
-fn no_adapter(out: &Output) -> bool {
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() && stderr.contains("no GPU adapter") {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI needs a GPU adapter: {stderr}"
-        );
-        eprintln!("\n!!!!!!!! SKIPPED: no GPU adapter (install mesa-vulkan-drivers) !!!!!!!!\n");
-        return true;
+/// True when the render failed for want of a GPU adapter, after [`gpu::require_or_skip`]
+/// (which fails the test when a GPU is required).
+fn no_adapter(success: bool, stderr: &str) -> bool {
+    let missing = !success && stderr.contains("no GPU adapter");
+    if missing {
+        gpu::require_or_skip(&format!(
+            "omnicloud render found no adapter: {}",
+            stderr.trim()
+        ));
     }
-    false
+    missing
 }
 
 /// `omnicloud render` of the bundled sample to `png` with `extra` options; its stderr.
@@ -45,7 +46,7 @@ fn the_sample_streams_through_the_rasterizer_and_says_so() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("autzen.png");
     let (out, stderr) = render_sample(&png, &["--width", "512"]);
-    if no_adapter(&out) {
+    if no_adapter(out.status.success(), &stderr) {
         return;
     }
     assert!(out.status.success(), "{stderr}");
@@ -61,7 +62,7 @@ fn subsampling_while_streaming_reports_what_it_kept() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("thin.png");
     let (out, stderr) = render_sample(&png, &["--width", "512", "--subsample", "4"]);
-    if no_adapter(&out) {
+    if no_adapter(out.status.success(), &stderr) {
         return;
     }
     assert!(out.status.success(), "{stderr}");
@@ -103,32 +104,17 @@ fn sigint_mid_stream_leaves_nothing_behind() {
     let out_dir = dir.path().join("out");
     std::fs::create_dir(&out_dir).unwrap();
     let png = out_dir.join("pano.png");
-    let child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
-        .args(["render", "--width", "2048", "--stereo", "ods", "-q"])
+    let mut command = Command::new(env!("CARGO_BIN_EXE_omnicloud"));
+    command
+        .args(["render", "--width", "2048", "--stereo", "ods"])
         .arg(&las)
         .arg("-o")
-        .arg(&png)
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    std::thread::sleep(Duration::from_millis(2500));
-    let _ = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    let output = child.wait_with_output().unwrap();
-    if no_adapter(&output) {
+        .arg(&png);
+    let run = interrupt_common::interrupt_at_progress(command, "rasterizing");
+    if run.cue.is_none() && no_adapter(run.status.success(), &run.stderr()) {
         return;
     }
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    // Either it was interrupted mid-stream, or (a fast GPU) it had finished: never half a file.
-    match output.status.code() {
-        Some(130) => {
-            assert!(stderr.contains("interrupted"), "{stderr}");
-            let left: Vec<_> = std::fs::read_dir(&out_dir).unwrap().collect();
-            assert!(left.is_empty(), "left behind: {left:?}");
-        }
-        Some(0) => assert!(image::open(&png).is_ok()),
-        other => panic!("exit {other:?}: {stderr}"),
-    }
+    interrupt_common::assert_interrupted(&run);
+    let left: Vec<_> = std::fs::read_dir(&out_dir).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
 }

@@ -207,7 +207,15 @@ fn top_bottom_images_are_compared_per_eye() {
     assert_eq!(r.eyes[1].eye, "right");
     assert_eq!(r.eyes[1].all.mismatch, planted);
     assert_eq!(r.eyes[1].latitude_bands[0].mismatch, planted);
-    assert!(!r.to_string().is_empty() && r.to_string().contains("right"));
+    let text = r.to_string();
+    assert!(
+        text.contains(" left: coverage mismatch 0 px (0.0000%")
+            && text.contains(&format!("right: coverage mismatch {planted} px"))
+            && text.contains(&format!(
+                "worst latitude band +90..+80: {planted} px mismatch"
+            )),
+        "{text}"
+    );
 }
 
 #[test]

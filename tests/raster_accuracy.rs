@@ -1,6 +1,11 @@
 //! `bounds` + `raycast` against a brute-force f64 reference (per pixel `View::pixel_ray`
 //! against every sphere): coverage, depth and colour agree on the stress scene, mono and ODS
 //! with pole merging, and with a sphere enclosing the eye.
+//!
+//! Thresholds, near what lavapipe measures (0 px coverage mismatch, depth p99 up to 5.9e-7,
+//! max up to 5.3e-5, no colour difference): at most [`COVERAGE_MAX_PX`] pixels differ in
+//! coverage per eye, depth relative error p99 <= [`DEPTH_P99_MAX`] and max <=
+//! [`DEPTH_MAX`] (f32 depth), unlit colour identical where the nearest sphere is unambiguous.
 
 mod raster_common;
 
@@ -12,6 +17,12 @@ use omnicloud::render::{ColorMode, ColorRule, Imposter, Proxy, RenderSettings, b
 use raster_common::*;
 
 const WIDTH: u32 = 512;
+/// Coverage mismatches allowed per eye (of 131,072 pixels).
+const COVERAGE_MAX_PX: u64 = 8;
+/// Depth relative error p99 allowed.
+const DEPTH_P99_MAX: f64 = 1.5e-6;
+/// Largest depth relative error allowed.
+const DEPTH_MAX: f64 = 2e-4;
 
 fn settings(stereo: Stereo) -> RenderSettings {
     let mut s = RenderSettings::new(WIDTH, Camera::new(DVec3::ZERO, 0.0));
@@ -45,19 +56,36 @@ fn check(scene: &omnicloud::Scene, settings: &RenderSettings, label: &str) {
     for (view, frame) in settings.views().iter().zip(frames) {
         let reference = reference(scene, settings, view);
         let a = compare(frame, &reference, &colors, settings);
-        eprintln!("{label} eye {}: {a:?}", view.eye_sign);
-        assert!(a.both > 500, "{label}: too few hits to judge ({})", a.both);
+        let all = a.all();
+        eprintln!(
+            "{label} eye {}: {} px both, coverage mismatch {} px ({:.4}%), depth p99 {:.2e} max {:.2e}, colour differs {} ({} unambiguous)",
+            view.eye_sign,
+            all.both_hits(),
+            all.mismatch,
+            100.0 * a.coverage_fraction(),
+            a.depth_rel_p99(),
+            all.depth_relative.as_ref().map_or(0.0, |d| d.max),
+            all.color_differs,
+            a.color_diff
+        );
         assert!(
-            a.coverage_fraction() <= 1e-3,
+            all.both_hits() > 500,
+            "{label}: too few hits to judge ({})",
+            all.both_hits()
+        );
+        assert!(
+            all.mismatch <= COVERAGE_MAX_PX,
             "{label}: coverage differs on {} px ({:.4}%)",
-            a.coverage_diff,
+            all.mismatch,
             100.0 * a.coverage_fraction()
         );
         assert!(
-            a.depth_rel_p99 <= 1e-4,
+            a.depth_rel_p99() <= DEPTH_P99_MAX,
             "{label}: depth p99 {}",
-            a.depth_rel_p99
+            a.depth_rel_p99()
         );
+        let depth_max = all.depth_relative.as_ref().map_or(0.0, |d| d.max);
+        assert!(depth_max <= DEPTH_MAX, "{label}: depth max {depth_max}");
         assert_eq!(
             a.color_diff, 0,
             "{label}: colour differs on unambiguous hits"
@@ -140,6 +168,14 @@ fn compute_splat_and_drawing_give_the_same_frames() {
     let Some(mut raster) = rasterizer() else {
         return;
     };
+    if !raster.can_splat() {
+        // Without the splat this would compare drawing with drawing and test nothing.
+        gpu::require_or_skip(&format!(
+            "the adapter {} has no 64-bit atomics, so the compute splat cannot run",
+            raster.adapter_name()
+        ));
+        return;
+    }
     let scene = stress_scene(1500);
     let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
     let (splatted, with) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
@@ -147,10 +183,8 @@ fn compute_splat_and_drawing_give_the_same_frames() {
     let (drawn, without) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
     eprintln!("splat: {with}\ndraw: {without}");
     assert_eq!(without.splatted, 0);
-    if raster.can_splat() {
-        assert!(with.splatted > 1000, "too few spheres splatted: {with}");
-        assert!(with.vertices < without.vertices);
-    }
+    assert!(with.splatted > 1000, "too few spheres splatted: {with}");
+    assert!(with.vertices < without.vertices);
     assert_eq!(with.drawn, without.drawn);
     let pairs = match (&splatted, &drawn) {
         (

@@ -9,6 +9,7 @@ use indicatif::ProgressBar;
 use omnicloud::Rendered;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, base_colors};
+use omnicloud::rng::SplitMix64;
 use raster_common::*;
 
 fn left_frame(r: &Rendered) -> &omnicloud::Frame {
@@ -24,7 +25,7 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
     // Many spheres near the poles and the seam, none covering a pole (those become bands in
     // every mode), plus the stress scene.
     let mut scene = stress_scene(600);
-    let mut rng = Rng::new(7);
+    let mut rng = SplitMix64::new(7);
     let mut pos = scene.positions.clone();
     let radii0: Vec<f32> = (0..scene.len()).map(|i| scene.radii.get(i)).collect();
     let mut radii = radii0;
@@ -44,12 +45,11 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
         pos.push((d * DVec3::new(p.cos() * l.sin(), p.cos() * l.cos(), p.sin())).as_vec3());
         radii.push(rng.range(0.1, 0.4) as f32);
     }
-    for k in 0..200 {
+    for _ in 0..200 {
         let lam: f64 = rng.range(172.0, 188.0);
         let phi: f64 = rng.range(-50.0, 50.0);
         let d = rng.range(1.0, 6.0);
         let (l, p) = (lam.to_radians(), phi.to_radians());
-        let _ = k;
         pos.push((d * DVec3::new(p.cos() * l.sin(), p.cos() * l.cos(), p.sin())).as_vec3());
         radii.push(rng.range(0.05, 0.3) as f32);
     }
@@ -87,25 +87,34 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
         let (r, stats) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
         let a = compare(left_frame(&r), &reference, &colors, &s);
         eprintln!(
-            "{proxy:?}+{imposter:?}: coverage error total {:.4}%, poles {:.4}%, seam {:.4}%, depth p99 {:.2e} ({} vertices)",
+            "{proxy:?}+{imposter:?}: coverage error total {} px {:.4}%, poles {} px {:.4}%, seam {} px {:.4}%, depth p99 {:.2e} ({} vertices)",
+            a.all().mismatch,
             100.0 * a.coverage_fraction(),
+            a.pole().0,
             100.0 * a.pole_fraction(),
+            a.regions.seam.mismatch,
             100.0 * a.seam_fraction(),
-            a.depth_rel_p99,
+            a.depth_rel_p99(),
             stats.vertices
         );
         results.push((proxy, imposter, a));
     }
     let bounds = &results[0].2;
-    assert!(bounds.coverage_fraction() <= 1e-3);
+    // Measured on lavapipe: bounds 0 px; the billboards 1.77-5.10 % of all pixels, the quad
+    // 151 and 1051 px in the polar caps and 17 and 57 px in the seam columns.
+    assert!(
+        bounds.all().mismatch <= 8,
+        "bounds: {}",
+        bounds.all().mismatch
+    );
     for (proxy, imposter, a) in &results[1..] {
         // Every billboard under-covers near spheres (a square of half-size r subtends
         // atan(r/d) < asin(r/d)) and bows at high latitude: a real, chartable difference.
         assert!(
-            a.coverage_fraction() > 0.005 && a.coverage_diff > 20 * bounds.coverage_diff.max(1),
+            a.coverage_fraction() > 0.015 && a.all().mismatch > 20 * bounds.all().mismatch.max(1),
             "{proxy:?}+{imposter:?}: total {} vs bounds {}",
-            a.coverage_diff,
-            bounds.coverage_diff
+            a.all().mismatch,
+            bounds.all().mismatch
         );
     }
     // The untessellated quad (the paper's "No Tess.") is worse than bounds at the poles and
@@ -115,20 +124,20 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
             continue;
         }
         assert!(
-            a.pole_coverage_diff > bounds.pole_coverage_diff + 20,
+            a.pole().0 > bounds.pole().0 + 120,
             "{proxy:?}+{imposter:?} poles: {} vs bounds {}",
-            a.pole_coverage_diff,
-            bounds.pole_coverage_diff
+            a.pole().0,
+            bounds.pole().0
         );
         assert!(
-            a.seam_coverage_diff > bounds.seam_coverage_diff + 10,
+            a.regions.seam.mismatch > bounds.regions.seam.mismatch + 12,
             "{proxy:?}+{imposter:?} seam: {} vs bounds {}",
-            a.seam_coverage_diff,
-            bounds.seam_coverage_diff
+            a.regions.seam.mismatch,
+            bounds.regions.seam.mismatch
         );
     }
     // Tessellation fixes most of the pole error: static:4 sits between quad and bounds.
     let (quad, static4) = (&results[1].2, &results[2].2);
-    assert!(static4.pole_coverage_diff < quad.pole_coverage_diff);
-    assert!(static4.pole_coverage_diff >= bounds.pole_coverage_diff);
+    assert!(static4.pole().0 < quad.pole().0);
+    assert!(static4.pole().0 >= bounds.pole().0);
 }

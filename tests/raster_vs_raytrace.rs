@@ -1,7 +1,8 @@
-//! The rasterizer (`bounds` + `raycast`) against the CPU ray tracer, through `compare`:
-//! at most 0.1% of pixels differ in coverage, depth relative error p99 <= 1e-4, and unlit
-//! colour identical where both hit; on the real sample and on the stress scene, mono and ODS
-//! with pole merging.
+//! The rasterizer (`bounds` + `raycast`) against the CPU ray tracer, through `compare`, on the
+//! real sample and on the stress scene, mono and ODS with pole merging: at most
+//! [`COVERAGE_MAX_PX`] pixels differ in coverage per eye (lavapipe: at most 1), depth relative
+//! error p99 <= [`DEPTH_P99_MAX`] (lavapipe: up to 7.4e-7), and unlit colour identical where
+//! both hit.
 
 mod raster_common;
 
@@ -14,6 +15,11 @@ use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
 use omnicloud::{Radii, Rendered, Scene, raytrace};
+
+/// Coverage mismatches allowed per eye.
+const COVERAGE_MAX_PX: u64 = 5;
+/// Depth relative error p99 allowed.
+const DEPTH_P99_MAX: f64 = 1.5e-6;
 
 fn settings(width: u32, stereo: Stereo, color: ColorMode) -> RenderSettings {
     let mut s = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));
@@ -55,10 +61,15 @@ fn agree(scene: &Scene, settings: &RenderSettings, label: &str) -> Option<Compar
             all.color_rmse
         );
         assert!(all.ref_hits > 1000, "{label}: too few hits to judge");
-        assert!(all.mismatch_percent <= 0.1, "{label} {}: coverage", eye.eye);
+        assert!(
+            all.mismatch <= COVERAGE_MAX_PX,
+            "{label} {}: coverage differs on {} px",
+            eye.eye,
+            all.mismatch
+        );
         let depth = all.depth_relative.as_ref().expect("both hit somewhere");
         assert!(
-            depth.p99 <= 1e-4,
+            depth.p99 <= DEPTH_P99_MAX,
             "{label} {}: depth p99 {}",
             eye.eye,
             depth.p99

@@ -2,6 +2,7 @@
 //! near its centre: coverage and depth must be those of standing on a scanned field.
 
 use indicatif::ProgressBar;
+use omnicloud::compare::percentile;
 use omnicloud::prepare::radius::{auto_radius, median_spacing};
 use omnicloud::projection::Camera;
 use omnicloud::raytrace::render;
@@ -37,28 +38,32 @@ fn autzen_from_standing_height_near_the_centre() {
     let w = f.width as usize;
     let lower = f.color[w * h / 2..].iter().filter(|c| c[3] != 0).count() as f64 / (n / 2.0);
     let upper = f.color[..w * h / 2].iter().filter(|c| c[3] != 0).count() as f64 / (n / 2.0);
-    let mut depths: Vec<f32> = f.depth.iter().copied().filter(|d| d.is_finite()).collect();
-    depths.sort_by(f32::total_cmp);
-    let (dmin, dmed, dmax) = (
-        depths[0],
-        depths[depths.len() / 2],
-        depths[depths.len() - 1],
-    );
+    let mut depths: Vec<f64> = f
+        .depth
+        .iter()
+        .filter(|d| d.is_finite())
+        .map(|&d| d as f64)
+        .collect();
+    depths.sort_by(f64::total_cmp);
+    let at = |p| percentile(&depths, p).expect("something is hit");
+    let (dmin, dmed, dmax) = (at(0.0), at(0.5), at(1.0));
     println!(
         "autzen: spacing {spacing:.3} m, radius {radius:.3} m, camera at ({:.1}, {:.1}, {:.2}), \
          coverage {coverage:.3} (lower half {lower:.3}, upper half {upper:.3}), \
          depth min {dmin:.2} median {dmed:.2} max {dmax:.1} m",
         eye.x, eye.y, eye.z
     );
-    assert!((0.3..2.0).contains(&spacing), "spacing {spacing}");
+    // Measured: spacing 1.336 m, coverage 0.410 (lower half 0.718, upper 0.103), depth
+    // 1.04 to 626.9 m; the bounds sit a few per cent around these.
+    assert!((1.30..1.37).contains(&spacing), "spacing {spacing}");
     assert!(f.depth.iter().all(|d| !d.is_nan()));
     // Standing on the ground: most of the lower hemisphere is scanned ground, little sky.
-    assert!(lower > 0.6, "lower-half coverage {lower}");
-    assert!(upper < 0.5, "upper-half coverage {upper}");
-    assert!((0.3..0.8).contains(&coverage), "coverage {coverage}");
-    // Nearest ground is about the eye height away; the farthest within the tile (~1 km).
-    assert!(dmin > 0.5 && dmin < 1.75, "min depth {dmin}");
-    assert!(dmax > 100.0 && dmax < 2000.0, "max depth {dmax}");
+    assert!(lower > 0.70, "lower-half coverage {lower}");
+    assert!(upper < 0.11, "upper-half coverage {upper}");
+    assert!((0.40..0.42).contains(&coverage), "coverage {coverage}");
+    // Nearest ground is the eye height less a radius away; the farthest within the tile.
+    assert!((1.0..1.1).contains(&dmin), "min depth {dmin}");
+    assert!((600.0..650.0).contains(&dmax), "max depth {dmax}");
     // Colours come from the file (not the flat grey).
     assert!(
         f.color

@@ -3,37 +3,31 @@
 
 use glam::{DVec3, Vec3};
 use omnicloud::raytrace::{Tracer, trace_brute_force};
+use omnicloud::rng::SplitMix64;
 use omnicloud::{Radii, Scene};
 
-/// A small deterministic generator (xorshift64*), so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next_f64(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-    fn unit(&mut self) -> DVec3 {
-        loop {
-            let v = DVec3::new(
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-                self.range(-1.0, 1.0),
-            );
-            let l = v.length();
-            if l > 0.1 && l <= 1.0 {
-                return v / l;
-            }
+/// A random unit vector (rejection sampling in the unit ball).
+fn unit(rng: &mut SplitMix64) -> DVec3 {
+    loop {
+        let v = DVec3::new(
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        );
+        let l = v.length();
+        if l > 0.1 && l <= 1.0 {
+            return v / l;
         }
     }
 }
 
-fn random_scene(rng: &mut Rng, n: usize, offset: Vec3, extent: f64, per_point: bool) -> Scene {
+fn random_scene(
+    rng: &mut SplitMix64,
+    n: usize,
+    offset: Vec3,
+    extent: f64,
+    per_point: bool,
+) -> Scene {
     let mut pts: Vec<Vec3> = (0..n)
         .map(|_| {
             offset
@@ -59,12 +53,12 @@ fn random_scene(rng: &mut Rng, n: usize, offset: Vec3, extent: f64, per_point: b
     scene
 }
 
-fn assert_same_hits(scene: &Scene, rng: &mut Rng, origins: &[DVec3], rays: usize) -> usize {
+fn assert_same_hits(scene: &Scene, rng: &mut SplitMix64, origins: &[DVec3], rays: usize) -> usize {
     let tracer = Tracer::new(scene).unwrap();
     let mut hits = 0;
     for k in 0..rays {
         let origin = origins[k % origins.len()];
-        let dir = rng.unit();
+        let dir = unit(rng);
         let fast = tracer.trace(origin, dir);
         let slow = trace_brute_force(scene, origin, dir);
         assert_eq!(fast, slow, "ray {k}: origin {origin} dir {dir}");
@@ -75,7 +69,7 @@ fn assert_same_hits(scene: &Scene, rng: &mut Rng, origins: &[DVec3], rays: usize
 
 #[test]
 fn bvh_equals_brute_force_on_random_scenes() {
-    let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+    let mut rng = SplitMix64::new(0x9e37_79b9_7f4a_7c15);
     for (n, per_point, min_hits) in [(3000, false, 400), (3000, true, 400), (17, true, 20)] {
         let scene = random_scene(&mut rng, n, Vec3::ZERO, 10.0, per_point);
         let mut origins: Vec<DVec3> = (0..64)
@@ -98,7 +92,7 @@ fn bvh_equals_brute_force_on_random_scenes() {
 #[test]
 fn bvh_equals_brute_force_far_from_the_local_zero() {
     // A cloud 800 m away with centimetre spheres, seen from the local zero and from inside.
-    let mut rng = Rng(42);
+    let mut rng = SplitMix64::new(42);
     let offset = Vec3::new(600.0, -500.0, 30.0);
     let scene = random_scene(&mut rng, 4000, offset, 2.0, true);
     let origins = [
@@ -111,7 +105,7 @@ fn bvh_equals_brute_force_far_from_the_local_zero() {
     let mut hits = 0;
     for k in 0..3000 {
         let origin = origins[k % origins.len()];
-        let target = scene.positions[k % scene.len()].as_dvec3() + 0.01 * rng.unit();
+        let target = scene.positions[k % scene.len()].as_dvec3() + 0.01 * unit(&mut rng);
         let dir = target - origin;
         let fast = tracer.trace(origin, dir);
         assert_eq!(fast, trace_brute_force(&scene, origin, dir), "ray {k}");

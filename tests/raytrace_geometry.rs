@@ -237,7 +237,12 @@ fn sphere_behind_appears_at_both_edges() {
     let left = (0..f.width / 2).filter(|&i| f.covered(i, j)).count();
     let right = (f.width / 2..f.width).filter(|&i| f.covered(i, j)).count();
     assert_eq!(left, right);
-    assert!(left >= 5);
+    // Half the disc: asin(r/d) of longitude, 6.5 columns at 512 wide.
+    let half = (0.4f64 / 5.0).asin().to_degrees() * f.width as f64 / 360.0;
+    assert!(
+        (left as f64 - half).abs() <= 1.0,
+        "{left} columns, expect {half:.2}"
+    );
 }
 
 #[test]

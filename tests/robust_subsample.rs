@@ -2,11 +2,12 @@
 //!
 //! Reference and test are ray-traced (the exact renderer) from the auto camera with the auto
 //! radius at 1024 x 512, colour = rgb; `compare` gives coverage IoU, depth error and colour
-//! PSNR. Thresholds: the auto model only drops sub-pixel spheres behind the 4 nearest in
-//! their pixel, so the coverage must stay (IoU ≥ 0.98: a hidden sphere that is removed can
-//! uncover a pixel only where all 4 nearer sub-pixel spheres miss the pixel's centre ray)
-//! and the visible depth must barely move (median relative depth error below 0.5%), while a
-//! dense scene loses a real fraction of its points (≥ 20%).
+//! PSNR. The auto model only drops sub-pixel spheres behind the 4 nearest in their pixel, so
+//! the coverage must stay (a hidden sphere that is removed can uncover a pixel only where all
+//! 4 nearer sub-pixel spheres miss the pixel's centre ray), the visible depth and colour must
+//! not move where both hit, while a dense scene loses a real fraction of its points.
+//! Thresholds sit near the measured values: Autzen keeps 42.5 % with IoU 0.9990 and identical
+//! colour; the lion keeps 74.1 % with IoU 0.9929 and PSNR 58.4 dB; depth p99 is 0 in both.
 
 use indicatif::ProgressBar;
 use omnicloud::io::{LoadOptions, load_scene};
@@ -25,7 +26,7 @@ fn frame(r: &Rendered) -> LinearImage {
     }
 }
 
-/// (kept fraction, IoU, median relative depth error, colour PSNR dB) of auto vs full.
+/// (kept fraction, IoU, relative depth error p99, colour PSNR dB) of auto vs full.
 fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../shared/data")
@@ -46,7 +47,7 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
     let report = omnicloud::compare::compare(&frame(&full), &frame(&test)).unwrap();
     let all = &report.eyes[0].all;
     let kept = thin.len() as f64 / scene.len() as f64;
-    let depth = all.depth_relative.as_ref().map_or(0.0, |d| d.p50);
+    let depth = all.depth_relative.as_ref().map_or(0.0, |d| d.p99);
     let psnr = all.color_psnr_db.unwrap_or(f64::INFINITY);
     eprintln!(
         "{rel} at {width}: kept {} of {} ({:.1}%), IoU {:.4}, mismatch {:.3}%, depth p50 {:.2e} p99 {:.2e}, PSNR {:.1} dB",
@@ -55,8 +56,8 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
         100.0 * kept,
         all.iou,
         all.mismatch_percent,
+        all.depth_relative.as_ref().map_or(0.0, |d| d.p50),
         depth,
-        all.depth_relative.as_ref().map_or(0.0, |d| d.p99),
         psnr
     );
     (kept, all.iou, depth, psnr)
@@ -64,19 +65,21 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
 
 #[test]
 fn auto_subsample_of_autzen_keeps_the_picture() {
-    let (kept, iou, depth, _) = measure("las/autzen_trim.laz", 1024);
+    let (kept, iou, depth, psnr) = measure("las/autzen_trim.laz", 1024);
     assert!(
-        kept < 0.8,
+        kept < 0.45,
         "kept {kept}: too little dropped on a dense scene"
     );
-    assert!(iou >= 0.98, "coverage IoU {iou}");
-    assert!(depth < 5e-3, "median relative depth error {depth}");
+    assert!(iou >= 0.998, "coverage IoU {iou}");
+    assert!(depth <= 1e-6, "relative depth error p99 {depth}");
+    assert!(psnr >= 60.0, "colour PSNR {psnr} dB");
 }
 
 #[test]
 fn auto_subsample_of_the_lion_keeps_the_picture() {
-    let (kept, iou, depth, _) = measure("large/potree_lion_takanawa_merged.las", 1024);
-    assert!(kept < 0.9, "kept {kept}");
-    assert!(iou >= 0.98, "coverage IoU {iou}");
-    assert!(depth < 5e-3, "median relative depth error {depth}");
+    let (kept, iou, depth, psnr) = measure("large/potree_lion_takanawa_merged.las", 1024);
+    assert!(kept < 0.76, "kept {kept}");
+    assert!(iou >= 0.99, "coverage IoU {iou}");
+    assert!(depth <= 1e-6, "relative depth error p99 {depth}");
+    assert!(psnr >= 55.0, "colour PSNR {psnr} dB");
 }

@@ -8,6 +8,7 @@ use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_s
 use omnicloud::prepare::placement;
 use omnicloud::prepare::radius::{RadiusChoice, auto_radius};
 use omnicloud::render::{ColorMode, base_colors};
+use omnicloud::rng::SplitMix64;
 use omnicloud::scene::{Radii, Scene};
 use omnicloud::stream::{ChunkSink, PlanOptions, StreamError, StreamPlan, plan, stream_file};
 use std::path::{Path, PathBuf};
@@ -184,13 +185,6 @@ const SPACING: f64 = 0.5;
 const X0: f64 = 637_000.0;
 const Y0: f64 = 851_000.0;
 
-fn lcg(seed: &mut u64) -> f64 {
-    *seed = seed
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*seed >> 11) as f64 / (1u64 << 53) as f64
-}
-
 /// A jittered 0.5 m ground grid over a gently sloping, rolling terrain, stored tile by tile,
 /// with full-range 16-bit colour and intensity; `laz` compresses it.
 fn write_terrain(path: &Path, laz: bool) {
@@ -207,14 +201,14 @@ fn write_terrain(path: &Path, laz: bool) {
         z: t(0.0),
     };
     let mut writer = las::Writer::from_path(path, builder.into_header().unwrap()).unwrap();
-    let mut seed = 11;
+    let mut rng = SplitMix64::new(11);
     let tiles = SIDE / TILE;
     for ty in 0..tiles {
         for tx in 0..tiles {
             for j in 0..TILE {
                 for i in 0..TILE {
-                    let x = ((tx * TILE + i) as f64 + 0.6 * (lcg(&mut seed) - 0.5)) * SPACING;
-                    let y = ((ty * TILE + j) as f64 + 0.6 * (lcg(&mut seed) - 0.5)) * SPACING;
+                    let x = ((tx * TILE + i) as f64 + 0.6 * (rng.next_f64() - 0.5)) * SPACING;
+                    let y = ((ty * TILE + j) as f64 + 0.6 * (rng.next_f64() - 0.5)) * SPACING;
                     let z = 10.0 + 0.02 * x + 0.5 * (y / 20.0).sin();
                     let v = (z * 4000.0) as u16;
                     writer

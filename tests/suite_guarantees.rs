@@ -1,7 +1,9 @@
 //! The stability suite's guarantees, on every suite scene against the ray-traced reference:
-//! `bounds` + `raycast` meets the rasterizer's thresholds (≤ 0.1 % coverage mismatch, depth
-//! relative error p99 ≤ 1e-4, unlit colour identical where both hit), and the paper's
-//! untessellated `quad` fails them where the suite says it should (poles, seam).
+//! `bounds` + `raycast` meets the rasterizer's thresholds, tightened to near what lavapipe
+//! measures (coverage mismatch 0 on every scene, depth relative error p99 up to 8.4e-7, unlit
+//! colour identical where both hit), and the paper's untessellated `quad` fails the design's
+//! 0.1 % coverage threshold where the suite says it should, by about what it measures (worst
+//! polar band 4.4 %, worst seam 0.59 %).
 
 mod raster_common;
 
@@ -10,8 +12,14 @@ use std::path::Path;
 use omnicloud::bench::{BenchConfig, BenchMode, SuiteReport, run_suite};
 use omnicloud::render::{Imposter, Proxy};
 
-const COVERAGE_MAX: f64 = 1e-3;
-const DEPTH_P99_MAX: f64 = 1e-4;
+/// Coverage mismatch `bounds` + `raycast` may show.
+const COVERAGE_MAX: f64 = 1e-4;
+/// Depth relative error p99 `bounds` + `raycast` may show.
+const DEPTH_P99_MAX: f64 = 1.5e-6;
+/// The least coverage mismatch `quad` + `sprite` must show in its worst pole scene's polar
+/// band and its worst seam scene's seam columns.
+const QUAD_POLE_MIN: f64 = 3e-2;
+const QUAD_SEAM_MIN: f64 = 4e-3;
 
 fn suite_dir() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/data/scenes"))
@@ -87,10 +95,10 @@ fn bounds_raycast_is_exact_and_quad_fails_at_poles_and_seam() {
         failures.join("\n")
     );
 
-    for tag in ["pole", "seam"] {
+    for (tag, least) in [("pole", QUAD_POLE_MIN), ("seam", QUAD_SEAM_MIN)] {
         let (worst, name) = worst_quad(&report, tag);
         assert!(
-            worst > COVERAGE_MAX,
+            worst > least,
             "quad+sprite should fail the {tag} scenes, worst is {name} at {worst:.3e}"
         );
     }

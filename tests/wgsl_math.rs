@@ -27,7 +27,8 @@ use omnicloud::raster::probe::ProbeItem;
 use omnicloud::raytrace::sphere;
 use omnicloud::render::RenderSettings;
 use omnicloud::render::shading::{self, Shading};
-use raster_common::{Rng, rasterizer};
+use omnicloud::rng::SplitMix64 as Rng;
+use raster_common::rasterizer;
 
 const ANGLE_TOL: f64 = 2e-5;
 /// Intersection distance, relative to `|origin - centre| + radius`.

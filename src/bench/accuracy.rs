@@ -1,18 +1,15 @@
 //! Accuracy of a render against the ray-traced reference, in the terms the benchmark tables
-//! use: coverage mismatch (overall and per 10° latitude band), IoU, relative depth error
-//! percentiles where both hit, unlit colour mismatch where both hit, and PSNR.
+//! use: coverage mismatch (overall, per 10° latitude band and at the seam), IoU, relative
+//! depth error percentiles where both hit, unlit colour mismatch where both hit, and PSNR.
 //!
-//! The definitions are those of [`crate::compare`] (hit = covered pixel, nearest-rank
-//! percentiles, 10° bands by pixel-centre latitude); this works on the in-memory 8-bit frames
-//! so it can also tell whether the unlit colour is bit-identical where both hit.
+//! Every figure is [`crate::compare`]'s, over all eyes together ([`compare_eyes`]): hit =
+//! covered pixel, nearest-rank percentiles, 10° bands by pixel-centre latitude (north first),
+//! the seam columns, and the colour PSNR (peak 1, sRGB) over pixels both hit.
 
-use crate::frame::{Frame, Rendered};
-use crate::projection::Equirect;
+use crate::compare::{RegionStats, Regions, compare_eyes};
+use crate::frame::Rendered;
 
 use super::report::{Accuracy, BandAccuracy, RegionCount};
-
-/// Latitude bands of [`Accuracy::bands`]: 18 bands of 10°.
-pub const BAND_COUNT: usize = 18;
 
 /// The reference and test renders have different shapes.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -29,129 +26,67 @@ fn shape(r: &Rendered) -> String {
     format!("{} frame(s) of {}x{}", f.len(), f[0].width, f[0].height)
 }
 
-/// Band of the latitude of row `j` in an image `height` rows high.
-fn band_of_row(height: u32, j: u32) -> usize {
-    let (_, phi) = Equirect {
-        width: 2 * height,
-        height,
-    }
-    .pixel_angles(0, j);
-    (((phi.to_degrees() + 90.0) / 10.0).floor() as usize).min(BAND_COUNT - 1)
-}
-
 /// Compares `test` against `reference` over all eyes.
 pub fn measure(reference: &Rendered, test: &Rendered) -> Result<Accuracy, ShapeMismatch> {
     let (rf, tf) = (reference.frames(), test.frames());
-    let same = rf.len() == tf.len()
-        && rf
+    let mismatch = || ShapeMismatch {
+        reference: shape(reference),
+        test: shape(test),
+    };
+    if rf.len() != tf.len() {
+        return Err(mismatch());
+    }
+    let pairs: Vec<_> = rf.into_iter().zip(tf).collect();
+    let regions = compare_eyes(&pairs).map_err(|_| mismatch())?;
+    Ok(accuracy(&regions))
+}
+
+fn count(r: &RegionStats) -> RegionCount {
+    RegionCount {
+        pixels: r.pixels,
+        mismatched: r.mismatch,
+    }
+}
+
+fn fraction(n: u64, d: u64) -> f64 {
+    if d == 0 { 0.0 } else { n as f64 / d as f64 }
+}
+
+/// The benchmark's figures from compare's statistics.
+fn accuracy(r: &Regions) -> Accuracy {
+    let all = &r.all;
+    let depth =
+        |f: fn(&crate::compare::DepthErrorStats) -> f64| all.depth_relative.as_ref().map_or(0.0, f);
+    Accuracy {
+        coverage_mismatch: fraction(all.mismatch, all.pixels),
+        iou: all.iou,
+        depth_rel_p50: depth(|d| d.p50),
+        depth_rel_p99: depth(|d| d.p99),
+        depth_rel_max: depth(|d| d.max),
+        color_mismatch: fraction(all.color_differs, all.both_hits()),
+        psnr_db: all.color_psnr_db,
+        bands: r
+            .latitude_bands
             .iter()
-            .zip(&tf)
-            .all(|(a, b)| a.width == b.width && a.height == b.height);
-    if !same {
-        return Err(ShapeMismatch {
-            reference: shape(reference),
-            test: shape(test),
-        });
-    }
-    let mut acc = Tally::default();
-    for (r, t) in rf.iter().zip(&tf) {
-        acc.add(r, t);
-    }
-    Ok(acc.finish())
-}
-
-#[derive(Default)]
-struct Tally {
-    pixels: u64,
-    either: u64,
-    both: u64,
-    mismatched: u64,
-    color_differs: u64,
-    squared_error: f64,
-    depth_rel: Vec<f32>,
-    band_pixels: [u64; BAND_COUNT],
-    band_mismatched: [u64; BAND_COUNT],
-    seam: RegionCount,
-}
-
-impl Tally {
-    fn add(&mut self, r: &Frame, t: &Frame) {
-        let seam_cols = crate::compare::eyes::seam_columns(r.width);
-        for j in 0..r.height {
-            let band = band_of_row(r.height, j);
-            for i in 0..r.width {
-                let k = r.index(i, j);
-                let (rc, tc) = (r.color[k], t.color[k]);
-                let (rh, th) = (rc[3] != 0, tc[3] != 0);
-                if i < seam_cols || i >= r.width - seam_cols {
-                    self.seam.pixels += 1;
-                    self.seam.mismatched += u64::from(rh != th);
+            .enumerate()
+            .map(|(b, s)| {
+                let top = 90.0 - 10.0 * b as f64;
+                BandAccuracy {
+                    lat_lo_deg: top - 10.0,
+                    lat_hi_deg: top,
+                    pixels: s.pixels,
+                    mismatched: s.mismatch,
                 }
-                self.pixels += 1;
-                self.band_pixels[band] += 1;
-                self.squared_error += (0..3)
-                    .map(|c| (rc[c] as f64 - tc[c] as f64).powi(2))
-                    .sum::<f64>();
-                if rh || th {
-                    self.either += 1;
-                }
-                if rh != th {
-                    self.mismatched += 1;
-                    self.band_mismatched[band] += 1;
-                } else if rh {
-                    self.both += 1;
-                    if rc[..3] != tc[..3] {
-                        self.color_differs += 1;
-                    }
-                    let (dr, dt) = (r.depth[k], t.depth[k]);
-                    self.depth_rel.push(((dt - dr).abs() / dr).max(0.0));
-                }
-            }
-        }
-    }
-
-    fn finish(mut self) -> Accuracy {
-        let frac = |n: u64, d: u64| if d == 0 { 0.0 } else { n as f64 / d as f64 };
-        let n = self.depth_rel.len();
-        self.depth_rel.sort_by(f32::total_cmp);
-        let quantile = |q: f64| -> f64 {
-            if n == 0 {
-                0.0
-            } else {
-                // Nearest rank, as `compare` defines its percentiles.
-                let rank = (q * n as f64).ceil() as usize;
-                self.depth_rel[rank.clamp(1, n) - 1] as f64
-            }
-        };
-        let mse = self.squared_error / (3.0 * self.pixels.max(1) as f64);
-        Accuracy {
-            coverage_mismatch: frac(self.mismatched, self.pixels),
-            iou: if self.either == 0 {
-                1.0
-            } else {
-                self.both as f64 / self.either as f64
-            },
-            depth_rel_p50: quantile(0.5),
-            depth_rel_p99: quantile(0.99),
-            depth_rel_max: quantile(1.0),
-            color_mismatch: frac(self.color_differs, self.both),
-            psnr_db: (mse > 0.0).then(|| 10.0 * (255.0f64 * 255.0 / mse).log10()),
-            bands: (0..BAND_COUNT)
-                .map(|b| BandAccuracy {
-                    lat_lo_deg: -90.0 + 10.0 * b as f64,
-                    lat_hi_deg: -80.0 + 10.0 * b as f64,
-                    pixels: self.band_pixels[b],
-                    mismatched: self.band_mismatched[b],
-                })
-                .collect(),
-            seam: self.seam,
-        }
+            })
+            .collect(),
+        seam: count(&r.seam),
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::frame::Frame;
 
     fn frame_with(hits: &[(u32, u32, f32, [u8; 3])]) -> Frame {
         let mut f = Frame::new(8, 4);
@@ -172,9 +107,17 @@ mod tests {
         assert!((a.iou - 1.0 / 3.0).abs() < 1e-12);
         assert!((a.depth_rel_max - 0.1).abs() < 1e-6);
         assert_eq!(a.color_mismatch, 1.0);
-        // Row 0 is the band 67.5° → [60, 70); row 3 is −67.5° → [−70, −60).
-        assert_eq!(a.bands[15].mismatched, 1);
+        // Colour PSNR over the one pixel both hit: one channel off by 1/255.
+        let psnr = -10.0 * ((1.0f64 / 255.0).powi(2) / 3.0).log10();
+        assert!((a.psnr_db.unwrap() - psnr).abs() < 1e-9, "{:?}", a.psnr_db);
+        // North first: row 0 is the band 67.5° → [60, 70); row 3 is −67.5° → [−70, −60).
         assert_eq!(a.bands[2].mismatched, 1);
+        assert_eq!((a.bands[2].lat_lo_deg, a.bands[2].lat_hi_deg), (60.0, 70.0));
+        assert_eq!(a.bands[15].mismatched, 1);
+        assert_eq!(
+            (a.bands[15].lat_lo_deg, a.bands[15].lat_hi_deg),
+            (-70.0, -60.0)
+        );
         assert_eq!(a.bands.iter().map(|b| b.pixels).sum::<u64>(), 32);
         // Width 8: one seam column each side, 8 pixels; (0, 0) is in it.
         assert_eq!(

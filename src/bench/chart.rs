@@ -195,7 +195,7 @@ fn draw_speed_accuracy<DB: DrawingBackend>(
 pub struct BandSeries {
     /// Mode label.
     pub label: String,
-    /// (band centre latitude in degrees, mismatched fraction) south to north.
+    /// (band centre latitude in degrees, mismatched fraction) north to south.
     pub values: Vec<(f64, f64)>,
 }
 

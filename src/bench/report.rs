@@ -88,9 +88,10 @@ pub struct Accuracy {
     pub depth_rel_max: f64,
     /// Fraction of pixels hit by both whose RGB differs.
     pub color_mismatch: f64,
-    /// PSNR of the colour over all pixels, dB (`None` when identical).
+    /// Colour PSNR (peak 1, sRGB) over the pixels both hit, dB (`None` when their colours are
+    /// identical or no pixel is hit by both).
     pub psnr_db: Option<f64>,
-    /// Coverage mismatch per 10° latitude band, south to north.
+    /// Coverage mismatch per 10° latitude band, north to south (as `compare` orders them).
     pub bands: Vec<BandAccuracy>,
     /// Coverage mismatch in the seam columns (as `compare` defines them: the 1 % of columns
     /// nearest each edge, at least one each side).
@@ -425,8 +426,8 @@ pub(crate) mod tests {
                     psnr_db: Some(30.0),
                     bands: (0..18)
                         .map(|b| BandAccuracy {
-                            lat_lo_deg: -90.0 + 10.0 * b as f64,
-                            lat_hi_deg: -80.0 + 10.0 * b as f64,
+                            lat_lo_deg: 80.0 - 10.0 * b as f64,
+                            lat_hi_deg: 90.0 - 10.0 * b as f64,
                             pixels: 1000,
                             mismatched: if b == 0 || b == 17 {
                                 50 / (k as u64 + 1)

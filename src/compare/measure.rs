@@ -3,24 +3,27 @@
 use super::CompareError;
 use super::eyes::{EyeRows, LATITUDE_BANDS, band_name, latitude_band, seam_columns, split_eyes};
 use super::report::{CompareReport, EyeReport};
+use super::samples::Samples;
 use super::silhouette::silhouette_errors;
-use super::stats::{PixelErrors, RegionAccumulator, color_squared_error, depth_relative_error};
-use crate::output::LinearImage;
+use super::stats::{
+    PixelErrors, RegionAccumulator, RegionStats, color_squared_error, depth_relative_error,
+};
 
 /// Fails unless the two images have the same, non-zero size; `what` names them in errors.
-pub(crate) fn check_sizes(
-    reference: &LinearImage,
-    test: &LinearImage,
+pub(crate) fn check_sizes<S: Samples>(
+    reference: &S,
+    test: &S,
     what: &str,
 ) -> Result<(), CompareError> {
-    if (reference.width, reference.height) != (test.width, test.height) {
+    let (r, t) = (reference.size(), test.size());
+    if r != t {
         return Err(CompareError::SizeMismatch {
             what: what.to_owned(),
-            reference: (reference.width, reference.height),
-            test: (test.width, test.height),
+            reference: r,
+            test: t,
         });
     }
-    if reference.is_empty() {
+    if r.0 == 0 || r.1 == 0 {
         return Err(CompareError::Empty {
             what: what.to_owned(),
         });
@@ -30,81 +33,147 @@ pub(crate) fn check_sizes(
 
 /// Compares a test image against a reference of the same size (see the module docs for each
 /// metric). A square image is compared per eye as a top-bottom ODS pair.
-pub fn compare(reference: &LinearImage, test: &LinearImage) -> Result<CompareReport, CompareError> {
+pub fn compare<S: Samples>(reference: &S, test: &S) -> Result<CompareReport, CompareError> {
     compare_named(reference, test, "images")
 }
 
 /// [`compare`], naming the inputs `what` in errors.
-pub(crate) fn compare_named(
-    reference: &LinearImage,
-    test: &LinearImage,
+pub(crate) fn compare_named<S: Samples>(
+    reference: &S,
+    test: &S,
     what: &str,
 ) -> Result<CompareReport, CompareError> {
     check_sizes(reference, test, what)?;
-    let eyes = split_eyes(reference.width, reference.height);
+    let (width, height) = reference.size();
+    let eyes = split_eyes(width, height);
     let layout = if eyes.len() == 2 {
         "top-bottom"
     } else {
         "mono"
     };
     Ok(CompareReport {
-        width: reference.width,
-        height: reference.height,
+        width,
+        height,
         layout: layout.to_owned(),
         eyes: eyes
             .iter()
-            .map(|e| compare_eye(reference, test, e))
+            .map(|eye| {
+                let mut regions = RegionsAccumulator::default();
+                regions.add_eye(reference, test, eye);
+                let r = regions.finish();
+                EyeReport {
+                    eye: eye.name.to_owned(),
+                    width,
+                    height: eye.height,
+                    all: r.all,
+                    latitude_bands: r.latitude_bands,
+                    seam_columns_each_side: r.seam_columns_each_side,
+                    seam: r.seam,
+                }
+            })
             .collect(),
     })
 }
 
-fn compare_eye(reference: &LinearImage, test: &LinearImage, eye: &EyeRows) -> EyeReport {
-    let w = reference.width as usize;
-    let h = eye.height as usize;
-    let base = eye.first_row as usize * w;
-    let ref_hit: Vec<bool> = (base..base + w * h).map(|k| reference.hit(k)).collect();
-    let test_hit: Vec<bool> = (base..base + w * h).map(|k| test.hit(k)).collect();
-    let silhouette = silhouette_errors(&ref_hit, &test_hit, w, h);
-    let seam = seam_columns(reference.width) as usize;
+/// Statistics over a set of eyes: all their pixels, each 10° latitude band, the seam.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Regions {
+    /// Every pixel.
+    pub all: RegionStats,
+    /// 18 bands of 10° latitude, top (+90..+80) first.
+    pub latitude_bands: Vec<RegionStats>,
+    /// Columns on each side of the seam (longitude ±180°) in `seam`.
+    pub seam_columns_each_side: u32,
+    /// The seam columns (both edges together).
+    pub seam: RegionStats,
+}
 
-    let mut all = RegionAccumulator::default();
-    let mut bands: Vec<RegionAccumulator> = (0..LATITUDE_BANDS)
-        .map(|_| RegionAccumulator::default())
-        .collect();
-    let mut seam_acc = RegionAccumulator::default();
-    for j in 0..h {
-        let band = &mut bands[latitude_band(j as u32, eye.height)];
-        for i in 0..w {
-            let local = j * w + i;
-            let k = base + local;
-            let both = ref_hit[local] && test_hit[local];
-            let e = PixelErrors {
-                ref_hit: ref_hit[local],
-                test_hit: test_hit[local],
-                silhouette: silhouette[local],
-                depth_relative: both
-                    .then(|| depth_relative_error(reference.depth[k], test.depth[k]))
-                    .flatten(),
-                color_squared: both.then(|| color_squared_error(reference.color[k], test.color[k])),
-            };
-            all.add(&e);
-            band.add(&e);
-            if i < seam || i >= w - seam {
-                seam_acc.add(&e);
+/// Compares pairs of (reference, test) eye images, each a whole equirect image, and sums
+/// their statistics: the measure of a mono render or of both eyes of a stereo pair together.
+pub fn compare_eyes<S: Samples>(pairs: &[(&S, &S)]) -> Result<Regions, CompareError> {
+    let mut regions = RegionsAccumulator::default();
+    for &(reference, test) in pairs {
+        check_sizes(reference, test, "eyes")?;
+        let (_, height) = reference.size();
+        let eye = EyeRows {
+            name: "mono",
+            first_row: 0,
+            height,
+        };
+        regions.add_eye(reference, test, &eye);
+    }
+    Ok(regions.finish())
+}
+
+/// Running sums of [`Regions`], fed one eye at a time.
+struct RegionsAccumulator {
+    all: RegionAccumulator,
+    bands: Vec<RegionAccumulator>,
+    seam: RegionAccumulator,
+    seam_columns: u32,
+}
+
+impl Default for RegionsAccumulator {
+    fn default() -> Self {
+        RegionsAccumulator {
+            all: RegionAccumulator::default(),
+            bands: (0..LATITUDE_BANDS)
+                .map(|_| RegionAccumulator::default())
+                .collect(),
+            seam: RegionAccumulator::default(),
+            seam_columns: 0,
+        }
+    }
+}
+
+impl RegionsAccumulator {
+    /// Adds rows `eye` of `reference` and `test` (same size, checked by the caller).
+    fn add_eye<S: Samples>(&mut self, reference: &S, test: &S, eye: &EyeRows) {
+        let (width, _) = reference.size();
+        let w = width as usize;
+        let h = eye.height as usize;
+        let base = eye.first_row as usize * w;
+        let ref_hit: Vec<bool> = (base..base + w * h).map(|k| reference.hit(k)).collect();
+        let test_hit: Vec<bool> = (base..base + w * h).map(|k| test.hit(k)).collect();
+        let silhouette = silhouette_errors(&ref_hit, &test_hit, w, h);
+        self.seam_columns = seam_columns(width);
+        let seam = self.seam_columns as usize;
+        for j in 0..h {
+            let band = &mut self.bands[latitude_band(j as u32, eye.height)];
+            for i in 0..w {
+                let local = j * w + i;
+                let k = base + local;
+                let both = ref_hit[local] && test_hit[local];
+                let e = PixelErrors {
+                    ref_hit: ref_hit[local],
+                    test_hit: test_hit[local],
+                    silhouette: silhouette[local],
+                    depth_relative: both
+                        .then(|| depth_relative_error(reference.depth(k), test.depth(k)))
+                        .flatten(),
+                    color_squared: both
+                        .then(|| color_squared_error(reference.srgb(k), test.srgb(k))),
+                };
+                self.all.add(&e);
+                band.add(&e);
+                if i < seam || i >= w - seam {
+                    self.seam.add(&e);
+                }
             }
         }
     }
-    EyeReport {
-        eye: eye.name.to_owned(),
-        width: reference.width,
-        height: eye.height,
-        all: all.finish("all".to_owned()),
-        latitude_bands: bands
-            .into_iter()
-            .enumerate()
-            .map(|(b, acc)| acc.finish(band_name(b)))
-            .collect(),
-        seam_columns_each_side: seam as u32,
-        seam: seam_acc.finish("seam".to_owned()),
+
+    fn finish(self) -> Regions {
+        Regions {
+            all: self.all.finish("all".to_owned()),
+            latitude_bands: self
+                .bands
+                .into_iter()
+                .enumerate()
+                .map(|(b, acc)| acc.finish(band_name(b)))
+                .collect(),
+            seam_columns_each_side: self.seam_columns,
+            seam: self.seam.finish("seam".to_owned()),
+        }
     }
 }

@@ -8,11 +8,16 @@
 //!   opposite *reference* coverage (see [`silhouette`]), mean and max;
 //! - depth relative error `|z_t - z_r| / z_r` over pixels both hit with finite depths
 //!   (nearest-rank p50, p99, max);
-//! - colour PSNR (peak 1) of sRGB-encoded colour over pixels both hit.
+//! - colour: pixels both hit whose colour differs, and the PSNR (peak 1) of sRGB-encoded
+//!   colour over pixels both hit.
 //!
 //! A square image is a top-bottom ODS pair and is reported per eye (left = top half).
 //! Latitude bands are 10° by pixel-centre latitude, top first; the seam is the 1% of
 //! columns nearest each edge (at least one column each side).
+//!
+//! Images are read through [`Samples`]: EXR and PNG files as [`crate::output::LinearImage`],
+//! renders as [`crate::Frame`]s; [`compare_eyes`] sums the eyes of a render into one set of
+//! statistics (what `bench` reports).
 
 mod error;
 pub mod eyes;
@@ -21,6 +26,7 @@ mod files;
 pub mod heatmap;
 mod measure;
 mod report;
+mod samples;
 pub mod silhouette;
 pub mod stats;
 
@@ -28,6 +34,7 @@ pub use error::CompareError;
 pub use files::compare_files;
 #[cfg(feature = "charts")]
 pub use heatmap::{LegendLayout, heatmap};
-pub use measure::compare;
+pub use measure::{Regions, compare, compare_eyes};
 pub use report::{CompareReport, EyeReport};
-pub use stats::{DepthErrorStats, RegionStats};
+pub use samples::Samples;
+pub use stats::{DepthErrorStats, RegionStats, percentile};

@@ -119,13 +119,8 @@ mod tests {
     #[test]
     fn matches_brute_force_with_wrap() {
         let (w, h) = (23, 11);
-        let mut s = 12345u32;
-        let target: Vec<bool> = (0..w * h)
-            .map(|_| {
-                s = s.wrapping_mul(1_103_515_245).wrapping_add(12345);
-                (s >> 16).is_multiple_of(17)
-            })
-            .collect();
+        let mut rng = crate::rng::SplitMix64::new(12345);
+        let target: Vec<bool> = (0..w * h).map(|_| rng.next_f64() < 1.0 / 17.0).collect();
         assert_eq!(distance_to(&target, w, h), brute(&target, w, h));
     }
 

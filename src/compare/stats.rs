@@ -8,21 +8,10 @@ pub fn depth_relative_error(z_ref: f32, z_test: f32) -> Option<f64> {
     (r.is_finite() && t.is_finite() && r > 0.0).then(|| (t - r).abs() / r)
 }
 
-/// sRGB encoding of linear light as a float in [0, 1] (not quantised).
-fn srgb_encode(l: f32) -> f64 {
-    let l = (l as f64).clamp(0.0, 1.0);
-    if l <= 0.003_130_8 {
-        l * 12.92
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    }
-}
-
-/// Sum over R, G, B of the squared difference of the sRGB-encoded colours.
-pub fn color_squared_error(reference: [f32; 3], test: [f32; 3]) -> f64 {
-    (0..3)
-        .map(|k| (srgb_encode(reference[k]) - srgb_encode(test[k])).powi(2))
-        .sum()
+/// Sum over R, G, B of the squared difference of two sRGB-encoded colours (channels in
+/// [0, 1], as [`super::Samples::srgb`] gives them).
+pub fn color_squared_error(reference: [f64; 3], test: [f64; 3]) -> f64 {
+    (0..3).map(|k| (reference[k] - test[k]).powi(2)).sum()
 }
 
 /// What one pixel contributes to the statistics.
@@ -68,6 +57,8 @@ pub struct RegionStats {
     pub only_ref: u64,
     /// Pixels only the test hits.
     pub only_test: u64,
+    /// Pixels both hit whose colours differ.
+    pub color_differs: u64,
     /// Coverage mismatches: `only_ref + only_test`.
     pub mismatch: u64,
     /// `mismatch` as a percentage of the region's pixels.
@@ -87,6 +78,13 @@ pub struct RegionStats {
     pub color_psnr_db: Option<f64>,
 }
 
+impl RegionStats {
+    /// Pixels both images hit.
+    pub fn both_hits(&self) -> u64 {
+        self.ref_hits - self.only_ref
+    }
+}
+
 /// Running sums for one region.
 #[derive(Debug, Default)]
 pub struct RegionAccumulator {
@@ -95,6 +93,7 @@ pub struct RegionAccumulator {
     test_hits: u64,
     only_ref: u64,
     only_test: u64,
+    color_differs: u64,
     silhouette_count: u64,
     silhouette_sum: f64,
     silhouette_max: f64,
@@ -103,10 +102,12 @@ pub struct RegionAccumulator {
     color_pixels: u64,
 }
 
-/// Nearest-rank percentile of sorted, non-empty `v`.
-fn percentile(v: &[f64], p: f64) -> f64 {
-    let rank = (p * v.len() as f64).ceil() as usize;
-    v[rank.clamp(1, v.len()) - 1]
+/// The `p`-th percentile (`p` in [0, 1]) of ascending `sorted` by nearest rank: the smallest
+/// value that at least a fraction `p` of the values do not exceed (`p = 0` gives the
+/// smallest, `p = 1` the largest); `None` when `sorted` is empty.
+pub fn percentile(sorted: &[f64], p: f64) -> Option<f64> {
+    let rank = (p * sorted.len() as f64).ceil() as usize;
+    sorted.get(rank.clamp(1, sorted.len().max(1)) - 1).copied()
 }
 
 impl RegionAccumulator {
@@ -128,6 +129,7 @@ impl RegionAccumulator {
         if let Some(c) = e.color_squared {
             self.color_sum += c;
             self.color_pixels += 1;
+            self.color_differs += (c > 0.0) as u64;
         }
     }
 
@@ -136,14 +138,12 @@ impl RegionAccumulator {
         let mismatch = self.only_ref + self.only_test;
         let both = self.ref_hits - self.only_ref;
         let union = both + mismatch;
-        let depth_relative = (!self.depth.is_empty()).then(|| {
-            self.depth.sort_unstable_by(f64::total_cmp);
-            DepthErrorStats {
-                pixels: self.depth.len() as u64,
-                p50: percentile(&self.depth, 0.5),
-                p99: percentile(&self.depth, 0.99),
-                max: *self.depth.last().unwrap_or(&0.0),
-            }
+        self.depth.sort_unstable_by(f64::total_cmp);
+        let depth_relative = self.depth.last().map(|&max| DepthErrorStats {
+            pixels: self.depth.len() as u64,
+            p50: percentile(&self.depth, 0.5).unwrap_or(max),
+            p99: percentile(&self.depth, 0.99).unwrap_or(max),
+            max,
         });
         let mse = (self.color_pixels > 0).then(|| self.color_sum / (3 * self.color_pixels) as f64);
         RegionStats {
@@ -153,6 +153,7 @@ impl RegionAccumulator {
             test_hits: self.test_hits,
             only_ref: self.only_ref,
             only_test: self.only_test,
+            color_differs: self.color_differs,
             mismatch,
             mismatch_percent: if self.pixels > 0 {
                 100.0 * mismatch as f64 / self.pixels as f64
@@ -184,9 +185,12 @@ mod tests {
     #[test]
     fn nearest_rank_percentiles() {
         let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(percentile(&v, 0.5), 50.0);
-        assert_eq!(percentile(&v, 0.99), 99.0);
-        assert_eq!(percentile(&[7.0], 0.99), 7.0);
+        assert_eq!(percentile(&v, 0.5), Some(50.0));
+        assert_eq!(percentile(&v, 0.99), Some(99.0));
+        assert_eq!(percentile(&v, 0.0), Some(1.0));
+        assert_eq!(percentile(&v, 1.0), Some(100.0));
+        assert_eq!(percentile(&[7.0], 0.99), Some(7.0));
+        assert_eq!(percentile(&[], 0.5), None);
     }
 
     #[test]
@@ -203,5 +207,6 @@ mod tests {
         let s = acc.finish("all".into());
         assert!((s.color_psnr_db.unwrap() - 20.0).abs() < 1e-9);
         assert_eq!(s.iou, 1.0);
+        assert_eq!(s.color_differs, 1);
     }
 }

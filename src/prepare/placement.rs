@@ -121,10 +121,10 @@ mod tests {
 
     /// A deterministic pseudo-random sequence in [0, 1).
     fn lcg(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (*seed >> 40) as f32 / (1u64 << 24) as f32
+        let mut rng = crate::rng::SplitMix64::new(*seed);
+        let x = rng.next_f64() as f32;
+        *seed = rng.state();
+        x
     }
 
     /// A 20 m x 20 m ground grid at `z`, centred on (10, 10), with `hole` metres of radius left

@@ -28,11 +28,19 @@ impl GpuContext {
     pub fn new() -> Result<Self, RasterError> {
         // Probe Vulkan alone first: the GL backend's EGL probing prints display-server
         // errors on headless machines, and Vulkan is what we want wherever it exists.
+        // Only adapters that can render the distance channel count: OpenGL ES without
+        // EXT_color_buffer_float (Mesa's GL fallback) cannot, and would fail at the pipelines.
         let enumerate = |backends: wgpu::Backends| {
             let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
             desc.backends = backends;
             let instance = wgpu::Instance::new(desc);
-            pollster::block_on(instance.enumerate_adapters(backends))
+            let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+            adapters.retain(|a| {
+                a.get_texture_format_features(super::pipelines::DISTANCE_FORMAT)
+                    .allowed_usages
+                    .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
+            });
+            adapters
         };
         let mut adapters = enumerate(wgpu::Backends::VULKAN);
         if adapters.is_empty() {

@@ -5,7 +5,6 @@
 
 pub mod manifest;
 pub mod ply;
-pub mod rng;
 pub mod scenes;
 
 use std::path::PathBuf;
@@ -13,7 +12,6 @@ use std::path::PathBuf;
 pub use manifest::{
     MANIFEST_FILE, Manifest, ManifestEntry, load_manifest, manifest_of, suite_files, write_suite,
 };
-pub use rng::SplitMix64;
 pub use scenes::{SuitePoint, SuiteScene, SuiteStereo, SuiteView, all_scenes};
 
 /// What can go wrong writing or reading the suite.

@@ -10,7 +10,7 @@ use glam::DVec3;
 use crate::projection::{Camera, equirect};
 use crate::scene::{Attributes, Radii, Scene};
 
-use super::rng::SplitMix64;
+use crate::rng::SplitMix64;
 
 /// One sphere of a suite scene, in file (world) coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,6 +117,12 @@ fn quantize_radius(r: f64) -> f32 {
     quantize(r) as f32
 }
 
+/// A random 8-bit colour, each channel in [40, 255] so no sphere is near-black.
+fn random_color(rng: &mut SplitMix64) -> [u8; 3] {
+    let mut c = || 40 + (rng.next_u64() % 216) as u8;
+    [c(), c(), c()]
+}
+
 /// Places spheres by direction and distance from a camera.
 struct Placer {
     camera: Camera,
@@ -146,7 +152,7 @@ impl Placer {
     /// A sphere at `offset` from the camera centre (world axes).
     fn at_offset(&mut self, offset: DVec3, radius: f64) {
         let p = self.camera.center + offset;
-        let rgb = self.rng.color();
+        let rgb = random_color(&mut self.rng);
         self.points.push(SuitePoint {
             position: DVec3::new(quantize(p.x), quantize(p.y), quantize(p.z)),
             rgb,

@@ -1,28 +1,18 @@
 //! Shared helpers of the rasterizer tests: adapter acquisition, a brute-force f64 reference
-//! renderer, stress scenes and comparison metrics.
+//! renderer, stress scenes, and `compare`'s metrics against the reference.
 #![allow(dead_code)]
 
+pub mod gpu;
+
 use glam::{DVec3, Vec3};
-use omnicloud::projection::View;
-use omnicloud::raster::{RasterError, Rasterizer};
+use omnicloud::compare::{RegionStats, Regions, compare_eyes};
+use omnicloud::projection::{Equirect, View};
 use omnicloud::render::RenderSettings;
+use omnicloud::rng::SplitMix64;
 use omnicloud::{Attributes, Frame, Radii, Scene};
 use rayon::prelude::*;
 
-/// The rasterizer, or `None` (with a loud message) when no adapter exists outside CI.
-/// In CI (`CI` set) a missing adapter fails the test.
-pub fn rasterizer() -> Option<Rasterizer> {
-    match Rasterizer::new() {
-        Ok(r) => Some(r),
-        Err(RasterError::NoAdapter) if std::env::var_os("CI").is_none() => {
-            eprintln!(
-                "\n!!!!!!!! SKIPPED: no GPU adapter (install mesa-vulkan-drivers); set CI=1 to make this fail !!!!!!!!\n"
-            );
-            None
-        }
-        Err(e) => panic!("rasterizer unavailable: {e}"),
-    }
-}
+pub use gpu::rasterizer;
 
 /// Reference pixel: nearest hit, its sphere, and the second-nearest distinct sphere's t.
 #[derive(Clone, Copy)]
@@ -94,33 +84,63 @@ pub fn reference(scene: &Scene, settings: &RenderSettings, view: &View) -> Vec<O
         .collect()
 }
 
-/// Coverage, depth and colour agreement of a frame with the reference.
-#[derive(Debug)]
-pub struct Agreement {
-    pub pixels: usize,
-    pub coverage_diff: usize,
-    pub both: usize,
-    pub depth_rel_p99: f64,
-    pub depth_rel_max: f64,
-    /// Colour mismatches where the reference's nearest hit is unambiguous (second sphere
-    /// more than 1e-4 relative behind).
-    pub color_diff: usize,
-    /// Coverage differences per region: pole caps (|phi| > 60°), seam strip (|lam| > 170°).
-    pub pole_coverage_diff: usize,
-    pub pole_pixels: usize,
-    pub seam_coverage_diff: usize,
-    pub seam_pixels: usize,
+/// The reference as a frame: each pixel's nearest sphere, its colour and distance.
+pub fn reference_frame(reference: &[Option<RefPixel>], colors: &[[u8; 3]], img: Equirect) -> Frame {
+    let mut f = Frame::new(img.width, img.height);
+    for (k, r) in reference.iter().enumerate() {
+        if let Some(r) = r {
+            let [red, green, blue] = colors[r.sphere];
+            f.color[k] = [red, green, blue, 255];
+            f.depth[k] = r.t as f32;
+        }
+    }
+    f
 }
 
+/// A frame against the reference: `compare`'s statistics, plus the one figure they lack.
+#[derive(Debug)]
+pub struct Agreement {
+    /// `compare`'s statistics of the frame against [`reference_frame`].
+    pub regions: Regions,
+    /// Colour mismatches where the reference's nearest hit is unambiguous (the second sphere
+    /// more than 1e-4 relative behind); `compare` also counts near-ties, where either colour
+    /// is right.
+    pub color_diff: u64,
+}
+
+/// Bands of [`Regions::latitude_bands`] at each pole counted as its cap (|latitude| > 60°).
+const POLE_BANDS: usize = 3;
+
 impl Agreement {
+    /// The whole image.
+    pub fn all(&self) -> &RegionStats {
+        &self.regions.all
+    }
+    /// Coverage-mismatched fraction of all pixels.
     pub fn coverage_fraction(&self) -> f64 {
-        self.coverage_diff as f64 / self.pixels as f64
+        self.all().mismatch as f64 / self.all().pixels as f64
     }
+    /// Depth relative error p99 (nearest rank) where both hit.
+    pub fn depth_rel_p99(&self) -> f64 {
+        self.all().depth_relative.as_ref().map_or(0.0, |d| d.p99)
+    }
+    /// Coverage mismatches in the polar caps (|latitude| > 60°) and the caps' pixels.
+    pub fn pole(&self) -> (u64, u64) {
+        let bands = &self.regions.latitude_bands;
+        let caps = bands[..POLE_BANDS]
+            .iter()
+            .chain(&bands[bands.len() - POLE_BANDS..]);
+        caps.fold((0, 0), |(m, p), b| (m + b.mismatch, p + b.pixels))
+    }
+    /// Coverage-mismatched fraction of the polar caps.
     pub fn pole_fraction(&self) -> f64 {
-        self.pole_coverage_diff as f64 / self.pole_pixels.max(1) as f64
+        let (m, p) = self.pole();
+        m as f64 / p.max(1) as f64
     }
+    /// Coverage-mismatched fraction of the seam columns.
     pub fn seam_fraction(&self) -> f64 {
-        self.seam_coverage_diff as f64 / self.seam_pixels.max(1) as f64
+        let s = &self.regions.seam;
+        s.mismatch as f64 / s.pixels.max(1) as f64
     }
 }
 
@@ -131,71 +151,22 @@ pub fn compare(
     colors: &[[u8; 3]],
     settings: &RenderSettings,
 ) -> Agreement {
-    let img = settings.image;
-    let mut a = Agreement {
-        pixels: reference.len(),
-        coverage_diff: 0,
-        both: 0,
-        depth_rel_p99: 0.0,
-        depth_rel_max: 0.0,
-        color_diff: 0,
-        pole_coverage_diff: 0,
-        pole_pixels: 0,
-        seam_coverage_diff: 0,
-        seam_pixels: 0,
-    };
-    let mut rel = Vec::new();
-    for j in 0..img.height {
-        for i in 0..img.width {
-            let k = frame.index(i, j);
-            let (lam, phi) = img.pixel_angles(i, j);
-            let pole = phi.abs() > 60f64.to_radians();
-            let seam = lam.abs() > 170f64.to_radians();
-            a.pole_pixels += pole as usize;
-            a.seam_pixels += seam as usize;
-            let hit = frame.color[k][3] != 0;
-            match (reference[k], hit) {
-                (Some(r), true) => {
-                    a.both += 1;
-                    rel.push((frame.depth[k] as f64 - r.t).abs() / r.t);
-                    let c = colors[r.sphere];
-                    let got = [frame.color[k][0], frame.color[k][1], frame.color[k][2]];
-                    if got != c && r.second_t > r.t * (1.0 + 1e-4) {
-                        a.color_diff += 1;
-                    }
-                }
-                (None, false) => {}
-                _ => {
-                    a.coverage_diff += 1;
-                    a.pole_coverage_diff += pole as usize;
-                    a.seam_coverage_diff += seam as usize;
-                }
-            }
-        }
-    }
-    rel.sort_by(f64::total_cmp);
-    if !rel.is_empty() {
-        a.depth_rel_p99 = rel[((rel.len() - 1) as f64 * 0.99) as usize];
-        a.depth_rel_max = *rel.last().unwrap();
-    }
-    a
-}
-
-/// Deterministic xorshift generator.
-pub struct Rng(u64);
-
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed.max(1))
-    }
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
+    let expected = reference_frame(reference, colors, settings.image);
+    let regions = compare_eyes(&[(&expected, frame)]).expect("frame and reference agree in size");
+    let color_diff = reference
+        .iter()
+        .enumerate()
+        .filter(|&(k, r)| {
+            r.is_some_and(|r| {
+                frame.color[k][3] != 0
+                    && frame.color[k] != expected.color[k]
+                    && r.second_t > r.t * (1.0 + 1e-4)
+            })
+        })
+        .count() as u64;
+    Agreement {
+        regions,
+        color_diff,
     }
 }
 
@@ -226,7 +197,7 @@ pub fn stress_scene(random: usize) -> Scene {
         (DVec3::new(0.08, 0.05, -0.02), 0.05),
         (DVec3::new(-0.15, 0.1, 0.05), 0.1),
     ];
-    let mut rng = Rng::new(12345);
+    let mut rng = SplitMix64::new(12345);
     for _ in 0..random {
         let lam = rng.range(-180.0, 180.0);
         let phi = (rng.range(-1.0, 1.0)).asin().to_degrees();

@@ -1,4 +1,5 @@
-//! A tiny seeded generator (SplitMix64) so the suite's scenes are the same on every machine.
+//! The one random generator of the crate, its tests, examples and tools: seeded SplitMix64,
+//! so generated scenes and randomised tests draw the same values on every machine.
 
 /// SplitMix64 (Steele, Lea & Flood 2014): 64 bits of state, passes BigCrush, trivially
 /// reproducible, and needs no dependency.
@@ -11,6 +12,11 @@ impl SplitMix64 {
     /// A generator started from `seed`.
     pub fn new(seed: u64) -> Self {
         SplitMix64 { state: seed }
+    }
+
+    /// The state: `SplitMix64::new(r.state())` continues `r`'s sequence.
+    pub fn state(&self) -> u64 {
+        self.state
     }
 
     /// The next 64 random bits.
@@ -30,12 +36,6 @@ impl SplitMix64 {
     /// A uniform value in [lo, hi).
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next_f64()
-    }
-
-    /// A random 8-bit colour, each channel in [40, 255] so no sphere is near-black.
-    pub fn color(&mut self) -> [u8; 3] {
-        let mut c = || 40 + (self.next_u64() % 216) as u8;
-        [c(), c(), c()]
     }
 }
 
@@ -60,6 +60,14 @@ mod tests {
         let mut r = SplitMix64::new(0);
         assert_eq!(r.next_u64(), 0xE220_A839_7B1D_CDAF);
         assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
+    }
+
+    #[test]
+    fn a_generator_resumes_from_its_state() {
+        let mut a = SplitMix64::new(3);
+        a.next_u64();
+        let mut b = SplitMix64::new(a.state());
+        assert_eq!(a.next_u64(), b.next_u64());
     }
 
     #[test]
