@@ -120,9 +120,9 @@ impl GpuContext {
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
         if let Some(e) = o {
-            let _ = e;
             return Err(RasterError::OutOfMemory {
                 while_doing: what.to_string(),
+                message: e.to_string(),
             });
         }
         if let Some(e) = v {
