@@ -96,3 +96,19 @@ impl GpuChunk {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::shaders::{CHUNK, compose, field_offsets, wgsl_struct_layout};
+    use super::*;
+
+    #[test]
+    fn gpu_point_matches_the_wgsl_struct() {
+        let rust = field_offsets!(GpuPoint: position, radius);
+        let size = size_of::<GpuPoint>() as u32;
+        assert_eq!(
+            wgsl_struct_layout(&compose(&[CHUNK]), "GpuPoint"),
+            (rust, size)
+        );
+    }
+}

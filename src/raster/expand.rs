@@ -24,7 +24,8 @@ pub struct ExpandedVertex {
     pub point: u32,
 }
 
-/// The indirect draw the expand pass fills (WGSL `DrawArgs`): it counts the vertices.
+/// Indirect draw arguments (WGSL `DrawArgs`) before an expand pass: one instance of no
+/// vertices yet (the pass counts them in).
 pub fn empty_draw_args() -> wgpu::util::DrawIndirectArgs {
     wgpu::util::DrawIndirectArgs {
         vertex_count: 0,
@@ -139,5 +140,23 @@ impl ExpandPipeline {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
         pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::shaders::{field_offsets, wgsl_struct_layout};
+    use super::*;
+
+    #[test]
+    fn the_vertex_and_draw_records_match_the_wgsl_structs() {
+        let source = source(false);
+        let rust = field_offsets!(ExpandedVertex: position, uv, point);
+        let size = size_of::<ExpandedVertex>() as u32;
+        assert_eq!(wgsl_struct_layout(&source, "ExpandedVertex"), (rust, size));
+        let rust = field_offsets!(wgpu::util::DrawIndirectArgs: vertex_count, instance_count,
+            first_vertex, first_instance);
+        let size = size_of::<wgpu::util::DrawIndirectArgs>() as u32;
+        assert_eq!(wgsl_struct_layout(&source, "DrawArgs"), (rust, size));
     }
 }

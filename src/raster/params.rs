@@ -175,72 +175,22 @@ impl Params {
 
 #[cfg(test)]
 mod tests {
-    use std::mem::offset_of;
-
+    use super::super::shaders::{PARAMS, compose, field_offsets, wgsl_struct_layout};
     use super::*;
 
-    /// The members of WGSL struct `name` in `source`: (name, byte offset), and its size.
-    fn wgsl_struct(source: &str, name: &str) -> (Vec<(String, u32)>, u32) {
-        let module = wgpu::naga::front::wgsl::parse_str(source).expect("WGSL parses");
-        let ty = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .map(|(_, t)| t)
-            .expect("struct declared");
-        match &ty.inner {
-            wgpu::naga::TypeInner::Struct { members, span } => (
-                members
-                    .iter()
-                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-                    .collect(),
-                *span,
-            ),
-            other => panic!("{name} is {other:?}"),
-        }
-    }
-
     #[test]
-    fn params_matches_the_wgsl_struct_field_for_field() {
-        let source = super::super::shaders::compose(&[super::super::shaders::PARAMS]);
-        let (members, size) = wgsl_struct(&source, "Params");
-        let rust = [
-            ("forward", offset_of!(Params, forward)),
-            ("eye_sign", offset_of!(Params, eye_sign)),
-            ("right", offset_of!(Params, right)),
-            ("half_ipd", offset_of!(Params, half_ipd)),
-            ("up", offset_of!(Params, up)),
-            ("splat_limit", offset_of!(Params, splat_limit)),
-            ("north", offset_of!(Params, north)),
-            ("south", offset_of!(Params, south)),
-            ("image_size", offset_of!(Params, image_size)),
-            ("depth_near", offset_of!(Params, depth_near)),
-            ("depth_far", offset_of!(Params, depth_far)),
-            ("light0_position", offset_of!(Params, light0_position)),
-            ("light0_intensity", offset_of!(Params, light0_intensity)),
-            ("light1_position", offset_of!(Params, light1_position)),
-            ("light1_intensity", offset_of!(Params, light1_intensity)),
-            ("ods_offset", offset_of!(Params, ods_offset)),
-            ("proxy", offset_of!(Params, proxy)),
-            ("imposter", offset_of!(Params, imposter)),
-            ("shading", offset_of!(Params, shading)),
-            ("static_level", offset_of!(Params, static_level)),
-            ("batch_count", offset_of!(Params, batch_count)),
-            ("batch_first", offset_of!(Params, batch_first)),
-            ("vertex_capacity", offset_of!(Params, vertex_capacity)),
-            ("eye", offset_of!(Params, eye)),
-        ];
-        let rust: Vec<(String, u32)> = rust
-            .iter()
-            .map(|&(n, o)| (n.to_string(), o as u32))
-            .collect();
-        assert_eq!(members, rust);
-        assert_eq!(size as usize, size_of::<Params>());
-        assert_eq!(size, 176);
+    fn params_and_pole_merge_match_the_wgsl_field_for_field() {
+        let source = compose(&[PARAMS]);
+        let rust = field_offsets!(Params: forward, eye_sign, right, half_ipd, up, splat_limit,
+            north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
+            light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
+            static_level, batch_count, batch_first, vertex_capacity, eye);
+        // The WGSL struct ends at `eye` and rounds its size up to 16 bytes; Rust pads.
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 176));
+        assert_eq!(size_of::<Params>(), 176);
 
-        let (merge, merge_size) = wgsl_struct(&source, "PoleMerge");
-        let names: Vec<&str> = merge.iter().map(|(n, _)| n.as_str()).collect();
-        assert_eq!(names, ["kind", "a", "b", "c"]);
-        assert_eq!(merge_size as usize, size_of::<GpuPoleMerge>());
+        let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
+        let size = size_of::<GpuPoleMerge>() as u32;
+        assert_eq!(wgsl_struct_layout(&source, "PoleMerge"), (rust, size));
     }
 }

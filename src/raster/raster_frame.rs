@@ -42,8 +42,8 @@ pub struct RasterFrame<'r> {
 
 impl Rasterizer {
     /// Starts a frame under `settings` whose chunks hold at most `max_chunk_points` points:
-    /// allocates and clears the targets. Draw chunks with [`RasterFrame::draw`], then
-    /// [`RasterFrame::finish`].
+    /// allocates and clears the targets. [`Rasterizer::render_uploaded`] and
+    /// [`super::ChunkedFrame`] draw chunks into it; [`RasterFrame::finish`] reads it back.
     pub fn begin_frame(
         &self,
         settings: &RenderSettings,
@@ -146,7 +146,7 @@ impl<'r> RasterFrame<'r> {
     }
 
     /// Number of views (eyes) drawn.
-    pub fn eyes(&self) -> usize {
+    pub(crate) fn eyes(&self) -> usize {
         self.views.len()
     }
 

@@ -54,7 +54,8 @@ impl Rasterizer {
         self.knobs.splat_limit = pixels;
     }
 
-    /// True when this device can run the compute splat.
+    /// True when this device can run the compute splat (public for tests, which check the
+    /// splat against drawing).
     pub fn can_splat(&self) -> bool {
         self.ctx.int64_atomics
     }

@@ -65,6 +65,40 @@ pub fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     }
 }
 
+/// The members of WGSL struct `name` in `source` as (name, byte offset), and its size, as
+/// naga lays it out: a Rust mirror must match it.
+#[cfg(test)]
+pub(crate) fn wgsl_struct_layout(source: &str, name: &str) -> (Vec<(String, u32)>, u32) {
+    let module = wgpu::naga::front::wgsl::parse_str(source).expect("WGSL parses");
+    let ty = module
+        .types
+        .iter()
+        .map(|(_, t)| t)
+        .find(|t| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("struct {name} is not declared"));
+    match &ty.inner {
+        wgpu::naga::TypeInner::Struct { members, span } => {
+            let members = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect();
+            (members, *span)
+        }
+        other => panic!("{name} is {other:?}"),
+    }
+}
+
+/// The listed fields of a Rust struct as (name, byte offset), to compare with
+/// [`wgsl_struct_layout`].
+#[cfg(test)]
+macro_rules! field_offsets {
+    ($t:ty: $($field:ident),* $(,)?) => {
+        vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field) as u32)),*]
+    };
+}
+#[cfg(test)]
+pub(crate) use field_offsets;
+
 #[cfg(test)]
 mod tests {
     use super::*;
