@@ -1,14 +1,24 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
-// Prepended: camera, equirect, pole_merge, ods, params; appended: sphere and splat (or
-// splat_off).
+// Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
+// pole_merge, ods, params, chunk, sphere_bounds; appended: sphere and splat (or splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
-@group(0) @binding(1) var<storage, read> points: array<vec4<f32>>;
-@group(0) @binding(3) var<storage, read_write> vertices: array<vec4<u32>>;
-@group(0) @binding(4) var<storage, read_write> draw_args: DrawArgs;
-@group(0) @binding(5) var<storage, read_write> stats: array<atomic<u32>>;
+@group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
+@group(0) @binding(2) var<storage, read_write> vertices: array<ExpandedVertex>;
+@group(0) @binding(3) var<storage, read_write> draw_args: DrawArgs;
+// One `EyeStats` (src/raster/stats.rs) per eye, indexed by the STAT_* constants.
+@group(0) @binding(4) var<storage, read_write> stats: array<atomic<u32>>;
 
+// One proxy vertex, laid out as `ExpandedVertex` in src/raster/expand.rs: unwrapped pixel
+// position, billboard coordinates (pack2x16snorm) and point index (| FORCE_RAYCAST).
+struct ExpandedVertex {
+    position: vec2<f32>,
+    uv: u32,
+    point: u32,
+}
+
+// Arguments of the indirect draw, as wgpu's `DrawIndirectArgs`.
 struct DrawArgs {
     vertex_count: atomic<u32>,
     instance_count: u32,
@@ -16,41 +26,18 @@ struct DrawArgs {
     first_instance: u32,
 }
 
-const STAT_CULLED: u32 = 0u;
-const STAT_DRAWN: u32 = 1u;
-const STAT_SPECIAL: u32 = 2u;
-const STAT_SEAM: u32 = 3u;
-const STAT_OVERFLOW: u32 = 4u;
-const STAT_VERTICES: u32 = 5u;
-const STAT_SPLATTED: u32 = 6u;
-const STATS_PER_EYE: u32 = 8u;
-
-const PROXY_BOUNDS: u32 = 0u;
-const PROXY_QUAD: u32 = 1u;
-const PROXY_STATIC: u32 = 2u;
-
-const IMPOSTER_RAYCAST: u32 = 0u;
-
-// Bit 31 of a vertex's point index: shade this proxy by ray casting whatever the imposter
-// mode (eye-enclosing, near-eye and pole-band proxies have no meaningful billboard).
-const FORCE_RAYCAST: u32 = 0x80000000u;
-
-// Angular slack added around analytic bounds, radians: covers f32 rounding of the bounds and
-// of the fragment's ray (about 0.06 px at 3840 wide).
-const ANGLE_MARGIN: f32 = 2e-4;
-
 fn count(k: u32, n: u32) {
-    atomicAdd(&stats[params.modes3.z * STATS_PER_EYE + k], n);
+    atomicAdd(&stats[params.eye * STATS_PER_EYE + k], n);
 }
 
-fn encode(p: vec2<f32>, uv: vec2<f32>, idx: u32) -> vec4<u32> {
-    return vec4<u32>(bitcast<u32>(p.x), bitcast<u32>(p.y), pack2x16snorm(uv), idx);
+fn encode(p: vec2<f32>, uv: vec2<f32>, idx: u32) -> ExpandedVertex {
+    return ExpandedVertex(p, pack2x16snorm(uv), idx);
 }
 
 // Reserves `n` vertices; returns the first, or 0xffffffff on overflow (counted).
 fn reserve(n: u32) -> u32 {
     let base = atomicAdd(&draw_args.vertex_count, n);
-    if base + n > params.modes3.x {
+    if base + n > params.vertex_capacity {
         atomicSub(&draw_args.vertex_count, n);
         count(STAT_OVERFLOW, 1u);
         return 0xffffffffu;
@@ -92,7 +79,7 @@ fn seam_shifts(x0: f32, x1: f32, w: f32) -> vec3<f32> {
 }
 
 fn emit_rect(r: Rect, idx: u32) {
-    let size = image_size(params);
+    let size = params.image_size;
     var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
     var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
     if hi.x - lo.x >= TAU {
@@ -142,29 +129,29 @@ fn billboard_vertex(view: View, bb: Billboard, a: f32, b: f32) -> vec3<f32> {
         return vec3<f32>(0.0);
     }
     let lam = bb.lam_c + wrap_longitude(q.angles.x - bb.lam_c);
-    return vec3<f32>(position_of_angles_unwrapped(image_size(params), vec2<f32>(lam, q.angles.y)), 1.0);
+    return vec3<f32>(position_of_angles_unwrapped(params.image_size, vec2<f32>(lam, q.angles.y)), 1.0);
 }
 
 // Tessellation level after Algorithm 1 of Marrinan & Papka, adapted: a straight proxy edge of
 // L px at latitude phi bows by about L^2 tan|phi| / (8 P) px from the curve it stands for
 // (P = pixels per radian); split edges until the bow is under 1/4 px.
-fn dynamic_level(view: View, bb: Billboard, phi_c: f32, max_level: u32) -> u32 {
+fn dynamic_level(view: View, bb: Billboard, phi_c: f32) -> u32 {
     let p00 = billboard_vertex(view, bb, -1.0, -1.0).xy;
     let p10 = billboard_vertex(view, bb, 1.0, -1.0).xy;
     let p01 = billboard_vertex(view, bb, -1.0, 1.0).xy;
     let p11 = billboard_vertex(view, bb, 1.0, 1.0).xy;
     let edge = max(max(distance(p00, p10), distance(p01, p11)),
                    max(distance(p00, p01), distance(p10, p11)));
-    let pixels_per_radian = image_size(params).y / PI;
+    let pixels_per_radian = params.image_size.y / PI;
     let bow = sqrt(tan(min(abs(phi_c), 1.5)) / (2.0 * pixels_per_radian));
     let level = u32(ceil(edge * bow));
-    return clamp(level, 1u, max_level);
+    return clamp(level, 1u, MAX_DYNAMIC_LEVEL);
 }
 
 // Projects the billboard's (n+1)^2 grid; writes it (with seam copies) or returns false when a
 // vertex has no projection.
 fn emit_billboard(view: View, bb: Billboard, n: u32, idx: u32) -> bool {
-    let w = image_size(params).x;
+    let w = params.image_size.x;
     var x0 = 3.4e38;
     var x1 = -3.4e38;
     let step = 2.0 / f32(n);
@@ -210,18 +197,18 @@ fn emit_billboard(view: View, bb: Billboard, n: u32, idx: u32) -> bool {
     return true;
 }
 
-@compute @workgroup_size(256)
+@compute @workgroup_size(EXPAND_WORKGROUP)
 fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= params.modes2.w {
+    if gid.x >= params.batch_count {
         return;
     }
-    let idx = params.modes3.w + gid.x;
+    let idx = params.batch_first + gid.x;
     let pt = points[idx];
-    let s = pt.xyz;
-    let radius = pt.w;
+    let s = pt.position;
+    let radius = pt.radius;
     let view = view_of(params);
-    let raycast = params.modes2.x == IMPOSTER_RAYCAST;
-    let proxy = params.modes.w;
+    let raycast = params.imposter == IMPOSTER_RAYCAST;
+    let proxy = params.proxy;
     // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.
     var centre = Projected(vec2<f32>(0.0), false);
     if raycast && proxy == PROXY_BOUNDS {
@@ -257,9 +244,9 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let bb = Billboard(s, radius * u, radius * v, centre.angles.x);
     var n = 1u;
     if proxy == PROXY_STATIC {
-        n = params.modes2.z;
+        n = params.static_level;
     } else if proxy != PROXY_QUAD {
-        n = dynamic_level(view, bb, centre.angles.y, params.modes3.y);
+        n = dynamic_level(view, bb, centre.angles.y);
     }
     if !emit_billboard(view, bb, n, idx) {
         count(STAT_SPECIAL, 1u);

@@ -8,7 +8,7 @@ struct View {
     half_ipd: f32,
     north: PoleMerge,
     south: PoleMerge,
-    // 0 exact inverse, 1 the paper's per-vertex offset.
+    // OFFSET_EXACT (the exact inverse) or OFFSET_PAPER (the paper's per-vertex offset).
     offset: u32,
 }
 
@@ -30,7 +30,6 @@ fn asin_accurate(x: f32) -> f32 {
     return atan2(x, sqrt(max((1.0 - x) * (1.0 + x), 0.0)));
 }
 
-const FIXED_POINT_ITERATIONS: i32 = 8;
 // f32 bisection halves [0, ipd/2] to below f32 resolution in 24 steps.
 const BISECTION_STEPS: i32 = 24;
 
@@ -97,7 +96,7 @@ fn has_projection(v: View, p: vec3<f32>) -> bool {
     let y = dot(p, b.forward);
     let z = dot(p, b.up);
     let rho = length(vec2<f32>(x, y));
-    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != 0u {
+    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != OFFSET_EXACT {
         return !(rho == 0.0 && z == 0.0);
     }
     return !(circle_radius(v, latitude_for_radius(rho, z, rho)) > rho);
@@ -118,7 +117,7 @@ fn project(v: View, p: vec3<f32>) -> Projected {
         }
         return Projected(vec2<f32>(lam_c, atan2(z, rho)), true);
     }
-    if v.offset == 0u {
+    if v.offset == OFFSET_EXACT {
         let r = solve_circle_radius(v, rho, z);
         if r < 0.0 {
             return Projected(vec2<f32>(0.0), false);

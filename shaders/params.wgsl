@@ -1,41 +1,45 @@
-// Per-(chunk, eye) uniform shared by the expand and imposter pipelines; laid out as
-// `src/raster/params.rs` (vec4 slots only, so Rust and WGSL agree without padding rules).
+// Per-batch uniform shared by the pipelines; laid out as `src/raster/params.rs` (a test there
+// checks the offsets). Mode codes are constants of the generated prelude.
 
 struct Params {
-    // xyz forward, w eye sign.
-    forward: vec4<f32>,
-    // xyz right, w half ipd.
-    right: vec4<f32>,
-    // xyz up, w compute-splat limit (pixels per side, 0 off).
-    up: vec4<f32>,
-    // Merge parameters a, b, c of the north and south profiles.
-    north: vec4<f32>,
-    south: vec4<f32>,
-    // width, height, depth near, depth far.
-    image: vec4<f32>,
-    // Lights relative to C: xyz position, w intensity.
-    light0: vec4<f32>,
-    light1: vec4<f32>,
-    // north kind, south kind, offset (0 exact, 1 paper), proxy (0 bounds, 1 quad, 2 static, 3 dynamic).
-    modes: vec4<u32>,
-    // imposter (0 raycast, 1 sprite), shading, static level, points in this chunk.
-    modes2: vec4<u32>,
-    // vertex capacity, maximum dynamic level, eye index, first point of the batch.
-    modes3: vec4<u32>,
+    forward: vec3<f32>,
+    // -1 left, +1 right, 0 mono.
+    eye_sign: f32,
+    right: vec3<f32>,
+    half_ipd: f32,
+    up: vec3<f32>,
+    // Largest sphere the compute splat ray casts, pixels per side of its bounds (0: off).
+    splat_limit: f32,
+    north: PoleMerge,
+    south: PoleMerge,
+    // Width and height, pixels.
+    image_size: vec2<f32>,
+    // Logarithmic depth range, metres.
+    depth_near: f32,
+    depth_far: f32,
+    // Lights relative to C.
+    light0_position: vec3<f32>,
+    light0_intensity: f32,
+    light1_position: vec3<f32>,
+    light1_intensity: f32,
+    // OFFSET_EXACT or OFFSET_PAPER.
+    ods_offset: u32,
+    // PROXY_*.
+    proxy: u32,
+    // IMPOSTER_*.
+    imposter: u32,
+    // 0 unlit, 1 phong, 2 normal.
+    shading: u32,
+    static_level: u32,
+    // The batch: points [batch_first, batch_first + batch_count) of the bound point buffer.
+    batch_count: u32,
+    batch_first: u32,
+    vertex_capacity: u32,
+    // Eye index: the statistics record the expand pass counts into.
+    eye: u32,
 }
 
 fn view_of(p: Params) -> View {
-    let b = Basis(p.forward.xyz, p.right.xyz, p.up.xyz);
-    return View(
-        b,
-        p.forward.w,
-        p.right.w,
-        PoleMerge(p.modes.x, p.north.x, p.north.y, p.north.z),
-        PoleMerge(p.modes.y, p.south.x, p.south.y, p.south.z),
-        p.modes.z,
-    );
-}
-
-fn image_size(p: Params) -> vec2<f32> {
-    return p.image.xy;
+    return View(Basis(p.forward, p.right, p.up), p.eye_sign, p.half_ipd, p.north, p.south,
+                p.ods_offset);
 }

@@ -1,6 +1,6 @@
 // Mirrors src/projection/pole_merge.rs (DESIGN §4).
-// kind 0: off; 1: Marrinan (a = start_deg, b = end_deg, c = exponent);
-// 2: Cycles (a = from_deg, b = to_deg).
+// kind MERGE_OFF; MERGE_MARRINAN (a = start_deg, b = end_deg, c = exponent);
+// MERGE_CYCLES (a = from_deg, b = to_deg).
 
 struct PoleMerge {
     kind: u32,
@@ -12,7 +12,7 @@ struct PoleMerge {
 // One pole's merge factor in [0, 1] at absolute latitude `abs_phi` (radians).
 fn pole_merge_factor(p: PoleMerge, abs_phi: f32) -> f32 {
     let deg = degrees(min(abs(abs_phi), FRAC_PI_2));
-    if p.kind == 1u {
+    if p.kind == MERGE_MARRINAN {
         if p.a <= 0.0 {
             return 1.0;
         }
@@ -32,7 +32,7 @@ fn pole_merge_factor(p: PoleMerge, abs_phi: f32) -> f32 {
         }
         return pow(base, p.c);
     }
-    if p.kind == 2u {
+    if p.kind == MERGE_CYCLES {
         if deg <= p.a {
             return 1.0;
         }

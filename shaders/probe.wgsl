@@ -48,8 +48,8 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     probe_out[o + 1u] = vec4<f32>(r.origin, 0.0);
     probe_out[o + 2u] = vec4<f32>(r.dir, 0.0);
     let t = intersect_sphere(Ray(it.ray_origin.xyz, it.ray_dir.xyz), it.sphere.xyz, it.sphere.w);
-    let l0 = Light(params.light0.xyz, params.light0.w);
-    let l1 = Light(params.light1.xyz, params.light1.w);
+    let l0 = Light(params.light0_position, params.light0_intensity);
+    let l1 = Light(params.light1_position, params.light1_intensity);
     let c = shade(u32(it.base.w), it.base.xyz, it.normal.xyz, it.hit.xyz, it.eye.xyz, l0, l1);
     probe_out[o + 3u] = vec4<f32>(c, t);
     let b = sphere_bounds(view, it.sphere.xyz, it.sphere.w);

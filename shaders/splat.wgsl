@@ -3,18 +3,19 @@
 // atomicMax of the complemented key (!distance bits << 32 | !point index), so a cleared
 // (zero) buffer means "no hit" and the largest key is the nearest hit, ties to the lowest
 // index. The rays and the intersection are the imposter fragment stage's, so the result is
-// the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
+// the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX. Appended to the expand
+// pipeline by src/raster/splat.rs; splat_resolve.wgsl merges the keys into the targets.
 
-@group(0) @binding(6) var<storage, read_write> splat_keys: array<atomic<u64>>;
+@group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
 
 // Ray casts `r` (analytic bounds, without margin) pixel by pixel when it spans at most
-// `params.up.w` pixels per side; false when it is too large (draw it instead).
+// `params.splat_limit` pixels per side; false when it is too large (draw it instead).
 fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
-    let limit = params.up.w;
+    let limit = params.splat_limit;
     if limit <= 0.0 {
         return false;
     }
-    let size = image_size(params);
+    let size = params.image_size;
     var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
     var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
     lo.y = max(lo.y, -FRAC_PI_2);

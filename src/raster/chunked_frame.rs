@@ -8,9 +8,12 @@ use crate::frame::Rendered;
 use crate::render::{ColorRule, RenderSettings};
 use crate::scene::Scene;
 
+use super::chunk::{GpuChunk, GpuPoint, pack_color};
 use super::error::RasterError;
-use super::raster_frame::{GpuChunk, RasterFrame, packed_color, packed_point};
-use super::rasterizer::{FrameTiming, RasterStats, Rasterizer};
+use super::raster_frame::RasterFrame;
+use super::rasterizer::Rasterizer;
+use super::stats::RasterStats;
+use super::timing::FrameTiming;
 
 /// A frame that accepts the cloud piece by piece; see the module docs.
 pub struct ChunkedFrame<'r> {
@@ -20,7 +23,7 @@ pub struct ChunkedFrame<'r> {
     color: ColorRule,
     points: u64,
     // Staging for one GPU chunk, reused.
-    positions: Vec<[f32; 4]>,
+    positions: Vec<GpuPoint>,
     colors: Vec<u32>,
 }
 
@@ -37,7 +40,7 @@ impl Rasterizer {
         let chunk_points =
             chunk_points.clamp(1, self.points_per_chunk().min(u32::MAX as u64) as u32);
         let frame = self.begin_frame(settings, chunk_points as u64)?;
-        let chunk = GpuChunk::new(self, chunk_points)?;
+        let chunk = GpuChunk::new(&self.ctx, chunk_points)?;
         Ok(ChunkedFrame {
             frame,
             chunk,
@@ -67,12 +70,12 @@ impl ChunkedFrame<'_> {
             let end = (start + capacity).min(scene.len());
             self.positions.clear();
             self.positions
-                .extend((start..end).map(|i| packed_point(scene, i, c)));
+                .extend((start..end).map(|i| GpuPoint::of(scene, i, c)));
             self.colors.clear();
             self.colors
-                .extend(colors[start..end].iter().copied().map(packed_color));
-            self.chunk
-                .write(self.frame.rasterizer(), &self.positions, &self.colors)?;
+                .extend(colors[start..end].iter().copied().map(pack_color));
+            let ctx = &self.frame.rasterizer().ctx;
+            self.chunk.write(ctx, &self.positions, &self.colors)?;
             self.frame.draw(&self.chunk, &ProgressBar::hidden())?;
             self.points += (end - start) as u64;
             start = end;

@@ -36,7 +36,7 @@ impl GpuContext {
             let instance = wgpu::Instance::new(desc);
             let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
             adapters.retain(|a| {
-                a.get_texture_format_features(super::pipelines::DISTANCE_FORMAT)
+                a.get_texture_format_features(super::targets::DISTANCE_FORMAT)
                     .allowed_usages
                     .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
             });
@@ -128,9 +128,9 @@ impl GpuContext {
         let v = pollster::block_on(validation.pop());
         let o = pollster::block_on(oom.pop());
         if let Some(e) = o {
-            let _ = e;
             return Err(RasterError::OutOfMemory {
                 while_doing: what.to_string(),
+                message: e.to_string(),
             });
         }
         if let Some(e) = v {

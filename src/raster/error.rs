@@ -27,10 +27,12 @@ pub enum RasterError {
         limit: u64,
     },
     /// The device ran out of memory.
-    #[error("the GPU ran out of memory while {while_doing}; try a smaller --width")]
+    #[error("the GPU ran out of memory while {while_doing} ({message}); try a smaller --width")]
     OutOfMemory {
         /// The step that failed.
         while_doing: String,
+        /// wgpu's message.
+        message: String,
     },
     /// The device was lost (driver reset, crash).
     #[error("the GPU device was lost: {0}")]

@@ -1,22 +1,35 @@
 //! GPU imposter-sphere rasterizer (wgpu), DESIGN §3, §5, §7.
 //!
-//! A compute pass (`shaders/expand.wgsl`) turns each point into per-eye proxy triangles in
-//! equirect pixel space; a render pass (`shaders/imposter.wgsl`) shades each fragment as the
-//! sphere (exact ODS ray cast, or the paper's sprite) with a logarithmic depth test. Points
-//! live on the GPU relative to the camera centre, in chunks that fit one storage binding.
+//! A compute pass (`expand.rs`, `shaders/expand.wgsl`) turns each point into per-eye proxy
+//! triangles in equirect pixel space; a render pass (`imposter.rs`, `shaders/imposter.wgsl`)
+//! shades each fragment as the sphere (exact ODS ray cast, or the paper's sprite) with a
+//! logarithmic depth test; small spheres are ray cast by the compute pass instead
+//! (`splat.rs`). Points live on the GPU relative to the camera centre, in chunks that fit one
+//! storage binding. [`Rasterizer`] holds the device and the pipelines; frames borrow it.
 
-pub mod chunked_frame;
-pub mod context;
-pub mod error;
-pub mod params;
-pub mod pipelines;
+mod chunk;
+mod chunked_frame;
+mod constants;
+mod context;
+mod error;
+mod expand;
+mod imposter;
+mod params;
 pub mod probe;
-pub mod raster_frame;
-pub mod rasterizer;
-pub mod shaders;
-pub mod targets;
+mod raster_frame;
+mod rasterizer;
+mod shaders;
+mod sizing;
+mod splat;
+mod stats;
+mod targets;
+mod timing;
+mod upload;
 
 pub use chunked_frame::ChunkedFrame;
 pub use error::RasterError;
 pub use raster_frame::RasterFrame;
-pub use rasterizer::{FrameTiming, RasterStats, Rasterizer, TimingSource, UploadedScene};
+pub use rasterizer::Rasterizer;
+pub use stats::RasterStats;
+pub use timing::{FrameTiming, TimingSource};
+pub use upload::UploadedScene;

@@ -6,42 +6,102 @@ use crate::projection::{OdsOffset, PoleMerge, View};
 use crate::render::shading::{Shading, lights};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
-/// Near and far distances (metres) of the logarithmic depth `log(t/near)/log(far/near)`:
-/// a Depth32Float then orders hits to about 2e-6 relative distance over 13 decades.
-pub const DEPTH_NEAR: f32 = 1e-6;
-/// See [`DEPTH_NEAR`].
-pub const DEPTH_FAR: f32 = 1e7;
+use super::constants::{
+    DEPTH_FAR, DEPTH_NEAR, IMPOSTER_RAYCAST, IMPOSTER_SPRITE, MERGE_CYCLES, MERGE_MARRINAN,
+    MERGE_OFF, OFFSET_EXACT, OFFSET_PAPER, PROXY_BOUNDS, PROXY_DYNAMIC, PROXY_QUAD, PROXY_STATIC,
+};
 
-/// Largest tessellation level `dynamic` may choose.
-pub const MAX_DYNAMIC_LEVEL: u32 = 16;
-
-/// Mirror of WGSL `Params` (vec4 slots only).
+/// One pole's merge profile (WGSL `PoleMerge`): `kind` is a `MERGE_*` constant, `a, b, c`
+/// its parameters.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, Pod, Zeroable)]
-pub struct Params {
-    forward: [f32; 4],
-    right: [f32; 4],
-    up: [f32; 4],
-    north: [f32; 4],
-    south: [f32; 4],
-    image: [f32; 4],
-    light0: [f32; 4],
-    light1: [f32; 4],
-    modes: [u32; 4],
-    modes2: [u32; 4],
-    modes3: [u32; 4],
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuPoleMerge {
+    /// `MERGE_OFF`, `MERGE_MARRINAN` or `MERGE_CYCLES`.
+    pub kind: u32,
+    /// Marrinan start, Cycles from (degrees).
+    pub a: f32,
+    /// Marrinan end, Cycles to (degrees).
+    pub b: f32,
+    /// Marrinan exponent.
+    pub c: f32,
 }
 
-fn merge_slot(p: PoleMerge) -> (u32, [f32; 4]) {
-    match p {
-        PoleMerge::Off => (0, [0.0; 4]),
-        PoleMerge::Marrinan {
-            start_deg,
-            end_deg,
-            exponent,
-        } => (1, [start_deg as f32, end_deg as f32, exponent as f32, 0.0]),
-        PoleMerge::Cycles { from_deg, to_deg } => (2, [from_deg as f32, to_deg as f32, 0.0, 0.0]),
+impl From<PoleMerge> for GpuPoleMerge {
+    fn from(p: PoleMerge) -> Self {
+        let (kind, [a, b, c]) = match p {
+            PoleMerge::Off => (MERGE_OFF, [0.0; 3]),
+            PoleMerge::Marrinan {
+                start_deg,
+                end_deg,
+                exponent,
+            } => (
+                MERGE_MARRINAN,
+                [start_deg as f32, end_deg as f32, exponent as f32],
+            ),
+            PoleMerge::Cycles { from_deg, to_deg } => {
+                (MERGE_CYCLES, [from_deg as f32, to_deg as f32, 0.0])
+            }
+        };
+        GpuPoleMerge { kind, a, b, c }
     }
+}
+
+/// Mirror of WGSL `Params`, field for field (WGSL uniform layout: each `vec3` starts a
+/// 16-byte slot and shares it with the scalar after it; `tests` checks the offsets against
+/// the WGSL).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Params {
+    /// Camera forward.
+    pub forward: [f32; 3],
+    /// -1 left eye, +1 right eye, 0 mono.
+    pub eye_sign: f32,
+    /// Camera right.
+    pub right: [f32; 3],
+    /// Half the interocular distance, metres.
+    pub half_ipd: f32,
+    /// Camera up.
+    pub up: [f32; 3],
+    /// Largest sphere the compute splat ray casts, pixels per side of its bounds; 0: off.
+    pub splat_limit: f32,
+    /// North pole merge profile.
+    pub north: GpuPoleMerge,
+    /// South pole merge profile.
+    pub south: GpuPoleMerge,
+    /// Image width and height, pixels.
+    pub image_size: [f32; 2],
+    /// [`DEPTH_NEAR`].
+    pub depth_near: f32,
+    /// [`DEPTH_FAR`].
+    pub depth_far: f32,
+    /// First light, relative to the camera centre.
+    pub light0_position: [f32; 3],
+    /// First light's intensity.
+    pub light0_intensity: f32,
+    /// Second light, relative to the camera centre.
+    pub light1_position: [f32; 3],
+    /// Second light's intensity.
+    pub light1_intensity: f32,
+    /// `OFFSET_EXACT` or `OFFSET_PAPER`.
+    pub ods_offset: u32,
+    /// A `PROXY_*` constant.
+    pub proxy: u32,
+    /// A `IMPOSTER_*` constant.
+    pub imposter: u32,
+    /// 0 unlit, 1 Phong, 2 normal (`shaders/shading.wgsl`).
+    pub shading: u32,
+    /// Tessellation level of the static proxy.
+    pub static_level: u32,
+    /// Points in this batch.
+    pub batch_count: u32,
+    /// First point of this batch in the bound point buffer.
+    pub batch_first: u32,
+    /// Vertices the vertex buffer holds.
+    pub vertex_capacity: u32,
+    /// Eye index (the statistics record it counts into).
+    pub eye: u32,
+    /// Pads the block to a multiple of 16 bytes.
+    pub pad: [u32; 3],
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -52,19 +112,10 @@ pub fn static_level(proxy: Proxy) -> u32 {
     }
 }
 
-/// Worst-case vertices one point can emit under `proxy` (two seam copies of its grid).
-pub fn max_vertices_per_point(proxy: Proxy) -> u64 {
-    let n = match proxy {
-        Proxy::Bounds | Proxy::Quad => 1,
-        Proxy::Static(n) => n.max(1) as u64,
-        Proxy::Dynamic => MAX_DYNAMIC_LEVEL as u64,
-    };
-    12 * n * n
-}
-
 impl Params {
     /// Parameters for `view` (eye number `eye`), the batch of `count` points from `first` in
-    /// the bound point buffer, and a vertex buffer of `vertex_capacity` vertices.
+    /// the bound point buffer, and a vertex buffer of `vertex_capacity` vertices; the splat
+    /// is off.
     pub fn new(
         view: &View,
         settings: &RenderSettings,
@@ -73,59 +124,73 @@ impl Params {
         vertex_capacity: u32,
     ) -> Self {
         let b = view.basis();
-        let v4 = |v: glam::DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
-        let (nk, north) = merge_slot(view.merging.north);
-        let (sk, south) = merge_slot(view.merging.south);
+        let v3 = |v: glam::DVec3| v.as_vec3().to_array();
         let ls = lights(&settings.camera);
         let c = settings.camera.center;
-        let light = |i: usize| {
-            let p = ls[i].position.as_dvec3() - c;
-            [p.x as f32, p.y as f32, p.z as f32, ls[i].intensity]
-        };
-        let offset = match view.offset {
-            OdsOffset::Exact => 0,
-            OdsOffset::Paper => 1,
-        };
-        let proxy = match settings.proxy {
-            Proxy::Bounds => 0,
-            Proxy::Quad => 1,
-            Proxy::Static(_) => 2,
-            Proxy::Dynamic => 3,
-        };
-        let imposter = match settings.imposter {
-            Imposter::Raycast => 0,
-            Imposter::Sprite => 1,
-        };
-        let shading = match settings.shading {
-            Shading::Unlit => 0,
-            Shading::Phong => 1,
-            Shading::Normal => 2,
-        };
+        let light = |i: usize| v3(ls[i].position.as_dvec3() - c);
         Params {
-            forward: v4(b.forward, view.eye_sign),
-            right: v4(b.right, view.half_ipd),
-            up: v4(b.up, 0.0),
-            north,
-            south,
-            image: [
-                settings.image.width as f32,
-                settings.image.height as f32,
-                DEPTH_NEAR,
-                DEPTH_FAR,
-            ],
-            light0: light(0),
-            light1: light(1),
-            modes: [nk, sk, offset, proxy],
-            modes2: [imposter, shading, static_level(settings.proxy), count],
-            modes3: [vertex_capacity, MAX_DYNAMIC_LEVEL, eye, first],
+            forward: v3(b.forward),
+            eye_sign: view.eye_sign as f32,
+            right: v3(b.right),
+            half_ipd: view.half_ipd as f32,
+            up: v3(b.up),
+            splat_limit: 0.0,
+            north: view.merging.north.into(),
+            south: view.merging.south.into(),
+            image_size: [settings.image.width as f32, settings.image.height as f32],
+            depth_near: DEPTH_NEAR,
+            depth_far: DEPTH_FAR,
+            light0_position: light(0),
+            light0_intensity: ls[0].intensity,
+            light1_position: light(1),
+            light1_intensity: ls[1].intensity,
+            ods_offset: match view.offset {
+                OdsOffset::Exact => OFFSET_EXACT,
+                OdsOffset::Paper => OFFSET_PAPER,
+            },
+            proxy: match settings.proxy {
+                Proxy::Bounds => PROXY_BOUNDS,
+                Proxy::Quad => PROXY_QUAD,
+                Proxy::Static(_) => PROXY_STATIC,
+                Proxy::Dynamic => PROXY_DYNAMIC,
+            },
+            imposter: match settings.imposter {
+                Imposter::Raycast => IMPOSTER_RAYCAST,
+                Imposter::Sprite => IMPOSTER_SPRITE,
+            },
+            shading: match settings.shading {
+                Shading::Unlit => 0,
+                Shading::Phong => 1,
+                Shading::Normal => 2,
+            },
+            static_level: static_level(settings.proxy),
+            batch_count: count,
+            batch_first: first,
+            vertex_capacity,
+            eye,
+            pad: [0; 3],
         }
     }
 }
 
-impl Params {
-    /// Sets the compute splat's largest sphere, in pixels per side of its bounds (0: off).
-    pub fn with_splat_limit(mut self, pixels: u32) -> Self {
-        self.up[3] = pixels as f32;
-        self
+#[cfg(test)]
+mod tests {
+    use super::super::shaders::{PARAMS, compose, field_offsets, wgsl_struct_layout};
+    use super::*;
+
+    #[test]
+    fn params_and_pole_merge_match_the_wgsl_field_for_field() {
+        let source = compose(&[PARAMS]);
+        let rust = field_offsets!(Params: forward, eye_sign, right, half_ipd, up, splat_limit,
+            north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
+            light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
+            static_level, batch_count, batch_first, vertex_capacity, eye);
+        // The WGSL struct ends at `eye` and rounds its size up to 16 bytes; Rust pads.
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 176));
+        assert_eq!(size_of::<Params>(), 176);
+
+        let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
+        let size = size_of::<GpuPoleMerge>() as u32;
+        assert_eq!(wgsl_struct_layout(&source, "PoleMerge"), (rust, size));
     }
 }

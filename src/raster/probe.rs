@@ -16,6 +16,17 @@ use super::targets::map_read;
 /// `shaders/probe.wgsl`.
 pub const PROBE: &str = include_str!("../../shaders/probe.wgsl");
 
+/// Source of the probe kernel: the math it checks, then `probe.wgsl`.
+pub fn source() -> String {
+    shaders::compose(&[
+        shaders::PARAMS,
+        shaders::SPHERE_BOUNDS,
+        shaders::SPHERE,
+        shaders::SHADING,
+        PROBE,
+    ])
+}
+
 /// vec4 slots the kernel writes per item.
 const OUT_SLOTS: usize = 6;
 
@@ -115,19 +126,7 @@ impl Rasterizer {
         let out_bytes = (16 * OUT_SLOTS * n) as u64;
         let params = Params::new(view, settings, 0, (0, n as u32), 0);
         let (pipeline, out, read, bind) = ctx.scoped("running the probe kernel", || {
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("probe.wgsl"),
-                source: wgpu::ShaderSource::Wgsl(
-                    shaders::compose(&[
-                        shaders::PARAMS,
-                        shaders::SPHERE_BOUNDS,
-                        shaders::SPHERE,
-                        shaders::SHADING,
-                        PROBE,
-                    ])
-                    .into(),
-                ),
-            });
+            let module = shaders::module(device, "probe.wgsl", source());
             let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("probe"),
                 layout: None,
@@ -145,7 +144,11 @@ impl Rasterizer {
                 })
             };
             use wgpu::BufferUsages as U;
-            let params_buf = make("probe params", 176, U::UNIFORM | U::COPY_DST);
+            let params_buf = make(
+                "probe params",
+                std::mem::size_of::<Params>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            );
             ctx.queue
                 .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
             let items_buf = make(

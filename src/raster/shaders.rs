@@ -1,5 +1,8 @@
-//! WGSL sources, composed by concatenation: the math files mirror `src/projection` and
-//! `src/render/shading.rs` file for file; the pipeline files use them.
+//! WGSL composition and binding helpers. A module is the generated constants prelude, the
+//! math files (which mirror `src/projection` and `src/render/shading.rs` file for file) and
+//! a pipeline's own files, which that pipeline's Rust module includes.
+
+use super::constants::wgsl_prelude;
 
 /// `shaders/camera.wgsl`.
 pub const CAMERA: &str = include_str!("../../shaders/camera.wgsl");
@@ -11,44 +14,112 @@ pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
 pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
 /// `shaders/sphere_bounds.wgsl`: the box of a sphere's image.
 pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl");
+/// `shaders/params.wgsl`: the per-batch uniform.
+pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
+/// `shaders/chunk.wgsl`: the point records.
+pub const CHUNK: &str = include_str!("../../shaders/chunk.wgsl");
 /// `shaders/shading.wgsl`.
 pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
-/// `shaders/params.wgsl`: the per-(chunk, eye) uniform.
-pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
-/// `shaders/expand.wgsl`: the proxy-expansion compute pass.
-pub const EXPAND: &str = include_str!("../../shaders/expand.wgsl");
 /// `shaders/sphere.wgsl`: the ray-sphere intersection.
 pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
-/// `shaders/splat.wgsl`: the compute splat of small spheres (64-bit atomics).
-pub const SPLAT: &str = include_str!("../../shaders/splat.wgsl");
-/// `shaders/splat_off.wgsl`: the splat's stand-in without 64-bit atomics.
-pub const SPLAT_OFF: &str = include_str!("../../shaders/splat_off.wgsl");
-/// `shaders/imposter.wgsl`: the imposter vertex and fragment stages.
-pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
 
-/// The projection math every pipeline needs, followed by `parts`.
+/// The constants prelude and the projection math every pipeline needs, followed by `parts`.
 pub fn compose(parts: &[&str]) -> String {
-    let mut s = [CAMERA, EQUIRECT, POLE_MERGE, ODS].join("\n");
-    for p in parts {
+    let mut s = wgsl_prelude();
+    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS].iter().chain(parts) {
         s.push('\n');
         s.push_str(p);
     }
     s
 }
 
-/// Source of the expand compute pipeline; `splat` includes the compute splat (the device
-/// must have 64-bit atomics).
-pub fn expand_source(splat: bool) -> String {
-    compose(&[
-        PARAMS,
-        SPHERE_BOUNDS,
-        EXPAND,
-        SPHERE,
-        if splat { SPLAT } else { SPLAT_OFF },
-    ])
+/// A WGSL module named `label`.
+pub fn module(device: &wgpu::Device, label: &str, source: String) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
 }
 
-/// Source of the imposter render pipeline.
-pub fn imposter_source() -> String {
-    compose(&[PARAMS, SHADING, SPHERE, IMPOSTER])
+/// Layout entry of the buffer at `binding`, visible to `stages`.
+pub fn buffer_layout(
+    binding: u32,
+    stages: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: stages,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// `buffer`, whole, at `binding`.
+pub fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+/// The members of WGSL struct `name` in `source` as (name, byte offset), and its size, as
+/// naga lays it out: a Rust mirror must match it.
+#[cfg(test)]
+pub(crate) fn wgsl_struct_layout(source: &str, name: &str) -> (Vec<(String, u32)>, u32) {
+    let module = wgpu::naga::front::wgsl::parse_str(source).expect("WGSL parses");
+    let ty = module
+        .types
+        .iter()
+        .map(|(_, t)| t)
+        .find(|t| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("struct {name} is not declared"));
+    match &ty.inner {
+        wgpu::naga::TypeInner::Struct { members, span } => {
+            let members = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect();
+            (members, *span)
+        }
+        other => panic!("{name} is {other:?}"),
+    }
+}
+
+/// The listed fields of a Rust struct as (name, byte offset), to compare with
+/// [`wgsl_struct_layout`].
+#[cfg(test)]
+macro_rules! field_offsets {
+    ($t:ty: $($field:ident),* $(,)?) => {
+        vec![$((stringify!($field).to_string(), std::mem::offset_of!($t, $field) as u32)),*]
+    };
+}
+#[cfg(test)]
+pub(crate) use field_offsets;
+
+#[cfg(test)]
+mod tests {
+    /// Parses and validates `source` as the device would (every capability allowed, so the
+    /// 64-bit splat validates too).
+    fn validate(name: &str, source: &str) {
+        use wgpu::naga::valid::{Capabilities, ValidationFlags, Validator};
+        let module = wgpu::naga::front::wgsl::parse_str(source)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+        Validator::new(ValidationFlags::all(), Capabilities::all())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
+    }
+
+    #[test]
+    fn every_composed_shader_parses_and_validates() {
+        validate("expand + splat", &super::super::expand::source(true));
+        validate("expand + splat_off", &super::super::expand::source(false));
+        validate("imposter", &super::super::imposter::source());
+        validate("splat resolve", &super::super::splat::resolve_source());
+        validate("probe", &super::super::probe::source());
+    }
 }

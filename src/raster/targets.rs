@@ -4,7 +4,40 @@ use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
-use super::pipelines::{COLOR_FORMAT, DEPTH_FORMAT, DISTANCE_FORMAT};
+
+/// Colour target: sRGB bytes stored as they are.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Distance target: metres along the ray.
+pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Depth-test buffer (logarithmic depth written by the fragment stage).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The colour attachments every pipeline drawing into [`EyeTargets`] writes: colour, then
+/// distance.
+pub const COLOR_TARGETS: [Option<wgpu::ColorTargetState>; 2] = [
+    Some(wgpu::ColorTargetState {
+        format: COLOR_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    }),
+    Some(wgpu::ColorTargetState {
+        format: DISTANCE_FORMAT,
+        blend: None,
+        write_mask: wgpu::ColorWrites::ALL,
+    }),
+];
+
+/// Nearest fragment wins; every pipeline drawing into [`EyeTargets`] writes the logarithmic
+/// depth it tests.
+pub fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
+}
 
 /// Colour, distance and depth-test textures of one eye.
 pub struct EyeTargets {

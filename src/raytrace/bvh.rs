@@ -75,7 +75,6 @@ impl TracerMemory {
 pub struct Tracer {
     bvh: CwBvh,
     spheres: Vec<SphereRecord>,
-    reach: f32,
     build_time: Duration,
 }
 
@@ -144,7 +143,6 @@ impl Tracer {
         Ok(Tracer {
             bvh,
             spheres,
-            reach,
             build_time: start.elapsed(),
         })
     }
@@ -176,13 +174,6 @@ impl Tracer {
             primitive_indices: self.bvh.primitive_indices.len() * size_of::<u32>(),
             spheres: self.spheres.len() * size_of::<SphereRecord>(),
         }
-    }
-
-    /// Largest |coordinate| the traversal margin was sized for: hits are identical to
-    /// [`trace_brute_force`] for ray origins within this cube around the local zero; beyond
-    /// it, a hit grazing a sphere to within ~1e-7·|origin| may be missed.
-    pub fn exact_reach(&self) -> f32 {
-        self.reach
     }
 
     /// Closest sphere hit by the ray `origin + t·dir`, `t > 0` (`dir` need not be unit

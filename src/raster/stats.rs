@@ -1,0 +1,128 @@
+//! What the expand pass counts (per eye, on the GPU) and the summary a render reports.
+
+use bytemuck::{Pod, Zeroable};
+
+/// One eye's counters as `shaders/expand.wgsl` accumulates them: a `u32` each, indexed by the
+/// `STAT_*` constants (which are derived from this layout).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct EyeStats {
+    /// Points whose centre has no projection.
+    pub culled: u32,
+    /// Points that produced a proxy (or were splatted).
+    pub drawn: u32,
+    /// Proxies drawn as analytic bounds with forced ray casting.
+    pub special: u32,
+    /// Proxies drawn a second time across the seam.
+    pub seam: u32,
+    /// Proxies that did not fit the vertex buffer (a sizing bug when non-zero).
+    pub overflow: u32,
+    /// Vertices written.
+    pub vertices: u32,
+    /// Spheres ray cast by the compute splat.
+    pub splatted: u32,
+}
+
+/// Counts from one render, summed over the eyes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct RasterStats {
+    /// Points whose centre has no projection (inside the viewing circle); ray-cast imposters
+    /// still draw them with a conservative proxy, sprites drop them.
+    pub culled: u64,
+    /// Points that produced a proxy.
+    pub drawn: u64,
+    /// Proxies drawn as analytic bounds with forced ray casting (eye-enclosing, near the
+    /// eye, containing a pole, or a billboard that could not be projected).
+    pub special: u64,
+    /// Proxies drawn a second time across the seam.
+    pub seam_copies: u64,
+    /// Proxies ray cast by the compute splat instead of drawn (counted in `drawn` too).
+    pub splatted: u64,
+    /// Vertices written.
+    pub vertices: u64,
+    /// Expand/draw batches submitted (per eye).
+    pub batches: u64,
+}
+
+impl RasterStats {
+    /// The sum of `eyes`' counters, with `batches` batches; `Err(n)` when `n` proxies
+    /// overflowed the vertex buffer.
+    pub(crate) fn sum(eyes: &[EyeStats], batches: u64) -> Result<Self, u64> {
+        let total = |f: fn(&EyeStats) -> u32| eyes.iter().map(|e| f(e) as u64).sum::<u64>();
+        let overflow = total(|e| e.overflow);
+        if overflow > 0 {
+            return Err(overflow);
+        }
+        Ok(RasterStats {
+            culled: total(|e| e.culled),
+            drawn: total(|e| e.drawn),
+            special: total(|e| e.special),
+            seam_copies: total(|e| e.seam),
+            splatted: total(|e| e.splatted),
+            vertices: total(|e| e.vertices),
+            batches,
+        })
+    }
+}
+
+impl std::fmt::Display for RasterStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} proxies drawn ({} special, {} seam copies, {} splatted, {} vertices, {} batches), \
+             {} points inside the viewing circle",
+            self.drawn,
+            self.special,
+            self.seam_copies,
+            self.splatted,
+            self.vertices,
+            self.batches,
+            self.culled
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eyes_are_summed_field_by_field_and_overflow_is_an_error() {
+        let left = EyeStats {
+            culled: 1,
+            drawn: 2,
+            special: 3,
+            seam: 4,
+            overflow: 0,
+            vertices: 6,
+            splatted: 7,
+        };
+        let right = EyeStats {
+            culled: 10,
+            drawn: 20,
+            special: 30,
+            seam: 40,
+            overflow: 0,
+            vertices: 60,
+            splatted: 70,
+        };
+        let s = RasterStats::sum(&[left, right], 5).unwrap();
+        assert_eq!(
+            s,
+            RasterStats {
+                culled: 11,
+                drawn: 22,
+                special: 33,
+                seam_copies: 44,
+                splatted: 77,
+                vertices: 66,
+                batches: 5,
+            }
+        );
+        let over = EyeStats {
+            overflow: 3,
+            ..left
+        };
+        assert_eq!(RasterStats::sum(&[left, over], 1), Err(3));
+    }
+}

@@ -1,0 +1,135 @@
+//! How long a frame's GPU work took: timestamp queries where the device has them, else the
+//! wall clock.
+
+use std::time::Instant;
+
+use super::context::GpuContext;
+use super::error::RasterError;
+use super::targets::map_read;
+
+/// How a frame time was measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimingSource {
+    /// GPU timestamp queries around the work.
+    GpuTimestamps,
+    /// Wall clock from the first submission to the end of the GPU work.
+    WallClock,
+}
+
+/// A frame time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameTiming {
+    /// Seconds spent expanding and drawing (excluding read-back).
+    pub seconds: f64,
+    /// How it was measured.
+    pub source: TimingSource,
+}
+
+/// Times one frame: a timestamp at the start of its first expand pass and one after its last
+/// draw, and the wall clock from its first submission.
+pub(crate) struct FrameClock {
+    query: Option<wgpu::QuerySet>,
+    started: Option<Instant>,
+}
+
+impl FrameClock {
+    /// A clock with a timestamp query set when the device has timestamps.
+    pub fn new(ctx: &GpuContext) -> Self {
+        let query = ctx.timestamps.then(|| {
+            ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("frame time"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2,
+            })
+        });
+        FrameClock {
+            query,
+            started: None,
+        }
+    }
+
+    /// Starts the wall clock (once: later calls keep the first start).
+    pub fn start(&mut self) {
+        self.started.get_or_insert_with(Instant::now);
+    }
+
+    /// Timestamp writes for the frame's first compute pass; `None` for any later pass.
+    pub fn first_pass_writes(&self, first: bool) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        self.query
+            .as_ref()
+            .filter(|_| first)
+            .map(|q| wgpu::ComputePassTimestampWrites {
+                query_set: q,
+                beginning_of_pass_write_index: Some(0),
+                end_of_pass_write_index: None,
+            })
+    }
+
+    /// Stamps the end of the frame (after `batches` batches), waits for the GPU, and reads the
+    /// time.
+    pub fn finish(self, ctx: &GpuContext, batches: u64) -> Result<FrameTiming, RasterError> {
+        let query = self.query.as_ref().filter(|_| batches > 0);
+        if let Some(q) = query {
+            // An empty pass after the last draw stamps the end of the frame.
+            let mut encoder = ctx.device.create_command_encoder(&Default::default());
+            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("frame end"),
+                timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+                    query_set: q,
+                    beginning_of_pass_write_index: None,
+                    end_of_pass_write_index: Some(1),
+                }),
+            }));
+            ctx.queue.submit([encoder.finish()]);
+        }
+        ctx.wait("drawing imposters")?;
+        let wall = self.started.map_or(0.0, |s| s.elapsed().as_secs_f64());
+        let gpu = match query {
+            Some(q) => read_timestamps(ctx, q)?,
+            None => None,
+        };
+        Ok(match gpu {
+            Some(seconds) => FrameTiming {
+                seconds,
+                source: TimingSource::GpuTimestamps,
+            },
+            None => FrameTiming {
+                seconds: wall,
+                source: TimingSource::WallClock,
+            },
+        })
+    }
+}
+
+/// Seconds between the two timestamps of `query`, or `None` when they make no sense.
+fn read_timestamps(ctx: &GpuContext, query: &wgpu::QuerySet) -> Result<Option<f64>, RasterError> {
+    let device = &ctx.device;
+    let (resolve, read) = ctx.scoped("reading timestamps", || {
+        let make = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 2 * size_of::<u64>() as u64,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        (
+            make(
+                "timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            make(
+                "timestamps read-back",
+                wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            ),
+        )
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.resolve_query_set(query, 0..2, &resolve, 0);
+    encoder.copy_buffer_to_buffer(&resolve, 0, &read, 0, None);
+    ctx.queue.submit([encoder.finish()]);
+    let raw = map_read(ctx, &read, "reading timestamps")?;
+    let t: Vec<u64> = bytemuck::pod_collect_to_vec(&raw);
+    let period_ns = ctx.queue.get_timestamp_period() as f64;
+    Ok((t[1] > t[0]).then(|| (t[1] - t[0]) as f64 * period_ns * 1e-9))
+}

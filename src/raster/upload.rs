@@ -1,0 +1,98 @@
+//! A whole scene uploaded once (in chunks of one storage binding each) and rendered any
+//! number of times.
+
+use indicatif::ProgressBar;
+
+use crate::frame::Rendered;
+use crate::render::{ColorMode, RenderSettings, base_colors};
+use crate::scene::Scene;
+
+use super::chunk::{GpuChunk, GpuPoint, pack_color};
+use super::error::RasterError;
+use super::rasterizer::Rasterizer;
+use super::stats::RasterStats;
+use super::timing::FrameTiming;
+
+/// A scene's points and colours on the GPU, relative to one camera centre.
+pub struct UploadedScene {
+    chunks: Vec<GpuChunk>,
+    camera_center: glam::DVec3,
+    color: ColorMode,
+    points: u64,
+}
+
+impl UploadedScene {
+    /// Number of points uploaded.
+    pub fn len(&self) -> u64 {
+        self.points
+    }
+
+    /// True when no point was uploaded.
+    pub fn is_empty(&self) -> bool {
+        self.points == 0
+    }
+}
+
+impl Rasterizer {
+    /// Renders `scene` under `settings`: one frame per view, laid out as the ray tracer's.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<(Rendered, RasterStats), RasterError> {
+        let uploaded = self.upload(scene, settings)?;
+        let (rendered, stats, _) = self.render_uploaded(&uploaded, settings, progress)?;
+        Ok((rendered, stats))
+    }
+
+    /// Uploads `scene` (positions relative to `settings.camera.center`, colours under
+    /// `settings.color`) for repeated rendering with [`Rasterizer::render_uploaded`].
+    pub fn upload(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+    ) -> Result<UploadedScene, RasterError> {
+        let colors = base_colors(scene, settings.color)?;
+        let c = settings.camera.center;
+        let per_chunk = self.points_per_chunk() as usize;
+        let mut chunks = Vec::new();
+        let mut start = 0;
+        while start < scene.len() {
+            let end = (start + per_chunk).min(scene.len());
+            let pts: Vec<GpuPoint> = (start..end).map(|i| GpuPoint::of(scene, i, c)).collect();
+            let cols: Vec<u32> = colors[start..end].iter().copied().map(pack_color).collect();
+            let mut chunk = GpuChunk::new(&self.ctx, (end - start) as u32)?;
+            chunk.write(&self.ctx, &pts, &cols)?;
+            chunks.push(chunk);
+            start = end;
+        }
+        Ok(UploadedScene {
+            chunks,
+            camera_center: c,
+            color: settings.color,
+            points: scene.len() as u64,
+        })
+    }
+
+    /// Renders an uploaded scene; also returns the time the expand and draw work took.
+    pub fn render_uploaded(
+        &self,
+        uploaded: &UploadedScene,
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<(Rendered, RasterStats, FrameTiming), RasterError> {
+        if uploaded.camera_center != settings.camera.center || uploaded.color != settings.color {
+            return Err(RasterError::Settings(
+                "the scene was uploaded for another camera centre or colour mode".into(),
+            ));
+        }
+        let largest = uploaded.chunks.iter().map(|c| c.len as u64).max();
+        let mut frame = self.begin_frame(settings, largest.unwrap_or(1))?;
+        progress.set_length(uploaded.points * frame.eyes() as u64);
+        for chunk in &uploaded.chunks {
+            frame.draw(chunk, progress)?;
+        }
+        frame.finish()
+    }
+}
