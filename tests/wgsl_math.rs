@@ -241,9 +241,9 @@ fn wgsl_sphere_intersection_matches_rust() {
 }
 
 /// `shade` (shading.wgsl) against `render::shading::shade` on the same f32 inputs, in each
-/// mode, with the lights of a camera away from the origin. Unlit and normal colours are
-/// equal; phong may round the other way where its linear value sits within f32 noise of a
-/// byte boundary.
+/// mode, with the lights of a camera away from the origin. Unlit colours are equal; phong
+/// and normal may round the other way where a value sits within f32 noise of a byte
+/// boundary (normalising the normal differs by an ulp between GPU and CPU).
 #[test]
 fn wgsl_shading_matches_rust() {
     let Some(raster) = rasterizer() else { return };
@@ -298,13 +298,14 @@ fn wgsl_shading_matches_rust() {
         n
     );
     assert_eq!(worst[0], 0.0, "unlit");
-    assert_eq!(worst[2], 0.0, "normal");
-    assert!(worst[1] <= 1.0, "phong off by {}", worst[1]);
-    assert!(
-        off[1] <= n / 10_000,
-        "phong: {} channels off by one",
-        off[1]
-    );
+    for (mode, k) in [("phong", 1), ("normal", 2)] {
+        assert!(worst[k] <= 1.0, "{mode} off by {}", worst[k]);
+        assert!(
+            off[k] <= n / 10_000,
+            "{mode}: {} channels off by one",
+            off[k]
+        );
+    }
 }
 
 /// `sphere_bounds` (sphere_bounds.wgsl) against the f64 `projection::sphere_bounds` on the
