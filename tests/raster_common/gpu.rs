@@ -21,7 +21,11 @@ pub fn require_or_skip(missing: &str) {
         .map(|v| format!(" (VK_ICD_FILENAMES={v})"))
         .unwrap_or_default();
     assert!(!gpu_required(), "{REQUIRE_GPU} is set but {missing}{icd}");
-    eprintln!(
+    // Straight to the process's stderr: the harness captures `eprintln!` of passing tests,
+    // and a skip must be seen.
+    use std::io::Write;
+    let _ = writeln!(
+        std::io::stderr().lock(),
         "\n!!!!!!!! SKIPPED: {missing}{icd}; set {REQUIRE_GPU}=1 to make this fail !!!!!!!!\n"
     );
 }
