@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 5): renders a scene once with the ray tracer (the reference)
+//! Speed against accuracy: renders a scene once with the ray tracer (the reference)
 //! and with every rasterizer mode, times the rasterizer (warm-up, then the median of several
 //! frames; GPU timestamps where the adapter has them, wall clock otherwise), measures each
 //! mode's error against the reference, and writes `bench.json`, `bench.csv`, `bench.md` and a
