@@ -1,8 +1,8 @@
 //! A minimal EXIF block (TIFF, little-endian, one IFD) for JPEG panoramas.
 //!
-//! Facebook's 360° photo upload looks for a camera make and model in EXIF as well as the
-//! GPano XMP, so JPEG panoramas carry `Make` and `Model` (`omnicloud`) and `Software`
-//! (`omnicloud <version>`). The JPEG encoder adds the `Exif\0\0` APP1 header.
+//! Facebook's 360° photo page names GPano XMP as what it reads, and uploaders report that it
+//! also wants a camera make and model in EXIF; so JPEG panoramas carry `Make` and `Model`
+//! (`omnicloud`) and `Software` (`omnicloud <version>`). The JPEG encoder adds the `Exif\0\0` APP1 header.
 
 /// TIFF field type 2: NUL-terminated ASCII.
 const ASCII: u16 = 2;

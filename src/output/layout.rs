@@ -71,24 +71,25 @@ fn files_for<'r>(
     layout: Layout,
     format: ImageFormat,
 ) -> Result<Vec<(PathBuf, Content<'r>)>, OutputError> {
-    Ok(match (rendered, layout) {
-        (Rendered::Mono(_), _) if format == ImageFormat::VrJpeg => {
-            return Err(OutputError::NotStereo {
-                path: path.to_path_buf(),
-                what: "a VR photo (.vr.jpg)",
-            });
-        }
-        (Rendered::Mono(f), _) => vec![(path.to_path_buf(), Content::Pano(f))],
-        (Rendered::Stereo { left, right }, _)
-            if layout == Layout::TopBottom || format == ImageFormat::VrJpeg =>
+    let not_stereo = || OutputError::NotStereo {
+        path: path.to_path_buf(),
+        what: "a VR photo (.vr.jpg)",
+    };
+    Ok(match rendered {
+        Rendered::Mono(_) if format == ImageFormat::VrJpeg => return Err(not_stereo()),
+        Rendered::Mono(f) => vec![(path.to_path_buf(), Content::Pano(f))],
+        // A VR photo holds both eyes whatever the layout.
+        Rendered::Stereo { left, right }
+            if layout == Layout::SeparateEyes && format != ImageFormat::VrJpeg =>
         {
+            vec![
+                (eye_path(path, "left"), Content::Pano(left)),
+                (eye_path(path, "right"), Content::Pano(right)),
+            ]
+        }
+        Rendered::Stereo { left, right } => {
             vec![(path.to_path_buf(), Content::Pair { left, right })]
         }
-        (Rendered::Stereo { left, right }, Layout::SeparateEyes) => vec![
-            (eye_path(path, "left"), Content::Pano(left)),
-            (eye_path(path, "right"), Content::Pano(right)),
-        ],
-        (Rendered::Stereo { .. }, Layout::TopBottom) => unreachable!("matched above"),
     })
 }
 
@@ -150,6 +151,7 @@ pub fn write_image(
 ///   stereo from the file name (`_360_TB`) instead;
 /// - `.vr.jpg` is Google's VR Photo (left eye with GPano, right eye in extended XMP);
 /// - EXR files are marked `envmap = latlong`; an ODS pair is a multi-view file.
+///
 /// JPEG files also carry a small EXIF block (make and model `omnicloud`).
 pub fn write_image_with(
     path: &Path,
@@ -177,7 +179,10 @@ pub fn write_image_with(
         (ImageFormat::VrJpeg, Content::Pair { left, right }) => {
             encode_vr_jpeg(left, right, quality, heading_degrees, w, p)
         }
-        (ImageFormat::VrJpeg, Content::Pano(_)) => unreachable!("files_for gives pairs"),
+        (ImageFormat::VrJpeg, Content::Pano(_)) => Err(OutputError::NotStereo {
+            path: p.to_path_buf(),
+            what: "a VR photo (.vr.jpg)",
+        }),
         (ImageFormat::Exr, c) => encode_exr(exr_views(c), ExrContent::ColorAndDepth, w, p),
     })
 }

@@ -42,7 +42,13 @@ use std::path::Path;
 pub fn read_image(path: &Path) -> Result<LinearImage, OutputError> {
     match ImageFormat::from_path(path)? {
         ImageFormat::Exr => read_exr(path),
-        ImageFormat::Png | ImageFormat::Jpeg => Ok(LinearImage::from_frame(&read_png(path)?)),
+        ImageFormat::Png => Ok(LinearImage::from_frame(&read_png(path)?)),
+        // The decoder is chosen by content; only the error should name the right format.
+        ImageFormat::Jpeg => match read_png(path) {
+            Ok(frame) => Ok(LinearImage::from_frame(&frame)),
+            Err(OutputError::Png { path, source }) => Err(OutputError::Jpeg { path, source }),
+            Err(e) => Err(e),
+        },
         ImageFormat::VrJpeg => Ok(LinearImage::from_frame(&read_vr_jpeg(path)?.top_bottom())),
     }
 }
