@@ -396,6 +396,14 @@ fn ods_exr_is_multi_view_and_every_exr_is_a_latlong_environment_map() {
     assert_eq!(image.layer_data.size.width(), WIDTH as usize);
     assert_eq!(image.layer_data.size.height(), WIDTH as usize / 2);
 
+    if let Some(tags) = exiftool(&p("ods.exr")) {
+        assert_eq!(
+            tags["OpenEXR:MultiView"],
+            serde_json::json!(["left", "right"])
+        );
+        assert_eq!(tags["OpenEXR:EnvironmentMap"], "Latitude/Longitude");
+    }
+
     let (names, attrs) = exr_header(&p("depth.exr"));
     assert_eq!(names, ["Z", "right.Z"]);
     assert!(attrs.multi_view_names.is_some() && attrs.environment_map.is_some());
