@@ -160,13 +160,16 @@ fn read_image_dispatches_by_extension() {
 #[test]
 fn unsupported_extension_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("pano.jpg");
+    let path = dir.path().join("pano.tif");
     let err = write_image(&path, &Rendered::Mono(pattern(4, 2, 0)), Layout::TopBottom).unwrap_err();
     let msg = err.to_string();
     assert!(
-        msg.contains("pano.jpg") && msg.contains(".png or .exr"),
+        msg.contains("pano.tif") && msg.contains(".png, .jpg, .vr.jpg or .exr"),
         "{msg}"
     );
+    let vr = dir.path().join("mono.vr.jpg");
+    let err = write_image(&vr, &Rendered::Mono(pattern(4, 2, 0)), Layout::TopBottom).unwrap_err();
+    assert!(matches!(err, OutputError::NotStereo { .. }), "{err}");
     assert!(entries(dir.path()).is_empty());
 }
 
@@ -241,4 +244,32 @@ fn overwrite_replaces_existing_file_atomically() {
     write_image(&path, &Rendered::Mono(newer.clone()), Layout::TopBottom).unwrap();
     assert_eq!(read_png(&path).unwrap().color, newer.color);
     assert_eq!(entries(dir.path()), vec!["pano.png"]);
+}
+
+#[test]
+fn jpeg_and_vr_photo_read_back_for_comparison() {
+    let dir = tempfile::tempdir().unwrap();
+    let (left, right) = (Frame::new(16, 8), pattern(16, 8, 9));
+    let stereo = Rendered::Stereo {
+        left: left.clone(),
+        right: right.clone(),
+    };
+    let vr = dir.path().join("pair.vr.jpg");
+    // A VR photo holds both eyes whatever the layout asks.
+    assert_eq!(
+        write_image(&vr, &stereo, Layout::SeparateEyes).unwrap(),
+        vec![vr.clone()]
+    );
+    let back = read_image(&vr).unwrap();
+    assert_eq!((back.width, back.height), (16, 16));
+    assert!(back.coverage.iter().all(|&c| c == 1.0), "JPEG has no alpha");
+    // The left eye is empty (black), the right eye is not.
+    let mean =
+        |range: std::ops::Range<usize>| range.map(|k| back.color[k][1] as f64).sum::<f64>() / 128.0;
+    assert!(mean(0..128) < 0.01 && mean(128..256) > 0.05);
+
+    let jpg = dir.path().join("pano.jpeg");
+    write_image(&jpg, &Rendered::Mono(right), Layout::TopBottom).unwrap();
+    let back = read_image(&jpg).unwrap();
+    assert_eq!((back.width, back.height), (16, 8));
 }

@@ -115,9 +115,17 @@ impl ViewArgs {
 pub struct RenderArgs {
     /// A LAS, LAZ or PLY file.
     pub file: PathBuf,
-    /// Output image: .png (8-bit sRGB) or .exr (linear RGB + coverage + Z).
-    #[arg(short = 'o', long = "output", value_name = "OUT.png|OUT.exr")]
+    /// Output image: .png (8-bit sRGB), .jpg, .vr.jpg (VR photo, needs --stereo ods) or
+    /// .exr (linear RGB + coverage + Z).
+    #[arg(
+        short = 'o',
+        long = "output",
+        value_name = "OUT.png|OUT.jpg|OUT.vr.jpg|OUT.exr"
+    )]
     pub output: PathBuf,
+    /// JPEG quality (for .jpg and .vr.jpg outputs).
+    #[arg(long, default_value = "90", value_parser = clap::value_parser!(u8).range(1..=100))]
+    pub quality: u8,
     /// Image width per eye; the height is half of it.
     #[arg(long, default_value = "3840", value_parser = parse::width)]
     pub width: u32,
@@ -260,6 +268,8 @@ mod tests {
             "sprite",
             "--ods-offset",
             "paper",
+            "--quality",
+            "75",
             "--quiet",
         ])
         .unwrap();
@@ -284,7 +294,20 @@ mod tests {
         );
         assert_eq!(r.renderer, RendererKind::Raytrace);
         assert_eq!((r.color, r.shading), (ColorMode::Elevation, Shading::Phong));
+        assert_eq!(r.quality, 75);
         assert!(r.quiet);
+        for bad in ["0", "101"] {
+            let argv = [
+                "omnicloud",
+                "render",
+                "a.laz",
+                "-o",
+                "a.jpg",
+                "--quality",
+                bad,
+            ];
+            assert!(Cli::try_parse_from(argv).is_err(), "--quality {bad}");
+        }
     }
 
     #[test]

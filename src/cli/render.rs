@@ -1,12 +1,13 @@
 //! `omnicloud render`: load, place the camera, choose radii, render, write.
 
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Result, bail};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
-use crate::output::{AnaglyphMethod, ImageFormat, Layout};
+use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{Prepared, prepare, subsample};
 use crate::projection::{Camera, Equirect, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
@@ -19,14 +20,21 @@ use super::progress;
 /// Runs `omnicloud render`.
 pub fn run(args: &RenderArgs) -> Result<()> {
     // Check output names before the (long) render, not after it.
-    ImageFormat::from_path(&args.output)?;
+    let format = ImageFormat::from_path(&args.output)?;
+    let stereo = args.view.stereo == Some(StereoKind::Ods);
+    if format == ImageFormat::VrJpeg && !stereo {
+        bail!("a VR photo (.vr.jpg) holds two eyes: it needs --stereo ods");
+    }
+    if format == ImageFormat::VrJpeg && args.separate_eyes {
+        bail!("a VR photo (.vr.jpg) holds both eyes in one file: drop --separate-eyes");
+    }
     if let Some(d) = &args.depth {
         ImageFormat::require(d, ImageFormat::Exr)?;
     }
     if let Some(a) = &args.anaglyph {
         ImageFormat::require(a, ImageFormat::Png)?;
     }
-    if args.anaglyph.is_some() && args.view.stereo != Some(StereoKind::Ods) {
+    if args.anaglyph.is_some() && !stereo {
         bail!("--anaglyph needs --stereo ods (a mono panorama has no second eye)");
     }
     let say = |msg: String| {
@@ -59,7 +67,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     } else {
         Layout::TopBottom
     };
-    let mut written = output::write_image(&args.output, &rendered, layout)?;
+    let options = OutputOptions {
+        layout,
+        jpeg_quality: args.quality,
+        yaw_degrees: args.view.yaw,
+    };
+    let mut written = output::write_image_with(&args.output, &rendered, &options)?;
     if let Some(d) = &args.depth {
         written.extend(output::write_depth(d, &rendered, layout)?);
     }
@@ -73,7 +86,39 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     for path in &written {
         say(format!("wrote {}", path.display()));
     }
+    // A top-bottom PNG/JPEG carries no GPano (it would describe one sphere, not two), so its
+    // name is what tells players it is stereo.
+    if stereo
+        && layout == Layout::TopBottom
+        && matches!(format, ImageFormat::Png | ImageFormat::Jpeg)
+        && !names_top_bottom(&args.output)
+    {
+        say(format!(
+            "hint: players such as the Quest's recognise top-bottom stereo from a name \
+             ending `_360_TB` (e.g. {})",
+            top_bottom_name(&args.output).display()
+        ));
+    }
     Ok(())
+}
+
+/// True when the file name already marks a top-bottom 360° image (`_360_TB`, any case).
+fn names_top_bottom(path: &Path) -> bool {
+    path.file_stem()
+        .is_some_and(|s| s.to_string_lossy().to_ascii_uppercase().contains("_360_TB"))
+}
+
+/// `pano.png` -> `pano_360_TB.png`, the name the hint suggests.
+fn top_bottom_name(path: &Path) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    path.with_file_name(format!("{stem}_360_TB{ext}"))
 }
 
 /// The ray tracer needs the whole cloud (and its BVH) in memory: load, subsample, trace.

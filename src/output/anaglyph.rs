@@ -109,6 +109,7 @@ pub fn write_anaglyph(
     ImageFormat::require(path, ImageFormat::Png)?;
     let Rendered::Stereo { left, right } = rendered else {
         return Err(OutputError::NotStereo {
+            what: "an anaglyph",
             path: path.to_path_buf(),
         });
     };

@@ -33,6 +33,15 @@ pub enum OutputError {
         #[source]
         source: image::ImageError,
     },
+    /// PNG encoding (with metadata chunks) failed.
+    #[error("{path}: PNG error: {source}")]
+    PngEncode {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: png::EncodingError,
+    },
     /// OpenEXR encoding or decoding failed.
     #[error("{path}: OpenEXR error: {source}")]
     Exr {
@@ -48,11 +57,38 @@ pub enum OutputError {
         /// The file concerned.
         path: PathBuf,
     },
-    /// A stereo-only output (anaglyph) was asked for a mono render.
-    #[error("{path}: an anaglyph needs a stereo (ODS) render, got a mono one")]
+    /// A stereo-only output (anaglyph, VR photo) was asked for a mono render.
+    #[error("{path}: {what} needs a stereo (ODS) render, got a mono one")]
     NotStereo {
         /// The requested output file.
         path: PathBuf,
+        /// What was asked for, e.g. `an anaglyph`.
+        what: &'static str,
+    },
+    /// JPEG encoding or decoding failed.
+    #[error("{path}: JPEG error: {source}")]
+    Jpeg {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: image::ImageError,
+    },
+    /// Metadata too large for one JPEG segment (64 KiB) or for extended XMP (4 GiB).
+    #[error("{path}: {bytes} bytes of metadata exceed what a JPEG segment can hold")]
+    SegmentTooLarge {
+        /// The file concerned.
+        path: PathBuf,
+        /// Size of the segment or packet.
+        bytes: usize,
+    },
+    /// A `.vr.jpg` file holds no readable right eye.
+    #[error("{path}: not a VR photo: {what}")]
+    NoRightEye {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is missing.
+        what: &'static str,
     },
     /// The two eyes of a stereo render differ in size.
     #[error("{path}: left eye is {left:?} pixels but right eye is {right:?}")]

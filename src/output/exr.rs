@@ -1,11 +1,16 @@
 //! OpenEXR: 32-bit float channels `R`, `G`, `B` (linear light, premultiplied by coverage),
 //! `A` (coverage) and `Z` (distance along the ray in metres, `+inf` for background); or `Z`
-//! alone for depth-only files.
+//! alone for depth-only files. Every file is marked as a latitude-longitude environment map
+//! (`envmap`); an ODS pair is one multi-view file (left, right).
 
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use exr::prelude::{Encoding, Image, Layer, LayerAttributes, SpecificChannels, WritableImage};
+use exr::meta::attribute::EnvironmentMap;
+use exr::prelude::{
+    AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SpecificChannels, Text,
+    WritableImage,
+};
 
 use super::linear_image::linear_pixel;
 use super::{LinearImage, OutputError};
@@ -27,80 +32,185 @@ fn exr_error(path: &Path) -> impl FnOnce(exr::error::Error) -> OutputError + '_ 
     }
 }
 
-/// Encodes `frame` as a single-layer EXR into `out`; `path` names the file in errors.
+/// The views of an EXR file: one panorama, or an ODS pair stored as a multi-view file.
+#[derive(Debug, Clone, Copy)]
+pub enum ExrViews<'a> {
+    /// One equirectangular panorama.
+    Mono(&'a Frame),
+    /// Left and right eye: OpenEXR multi-view (`multiView` = left, right), the left eye's
+    /// channels unprefixed (`R`, …, `Z`, what single-view readers show), the right eye's as
+    /// `right.R`, …, `right.Z`.
+    Stereo {
+        /// Left eye (the default view).
+        left: &'a Frame,
+        /// Right eye.
+        right: &'a Frame,
+    },
+}
+
+/// The name of the second view of a stereo file.
+pub const RIGHT_VIEW: &str = "right";
+
+/// Layer attributes: every file is a latitude-longitude environment map; a stereo one also
+/// names its views.
+fn attributes(stereo: bool) -> LayerAttributes {
+    let mut a = LayerAttributes {
+        environment_map: Some(EnvironmentMap::LatitudeLongitude),
+        ..LayerAttributes::default()
+    };
+    if stereo {
+        a.multi_view_names = Some(vec![Text::from("left"), Text::from(RIGHT_VIEW)]);
+    }
+    a
+}
+
+/// Encodes `views` as a single-part EXR into `out`; `path` names the file in errors.
 pub fn encode_exr(
-    frame: &Frame,
+    views: ExrViews<'_>,
     content: ExrContent,
     out: impl Write + Seek,
     path: &Path,
 ) -> Result<(), OutputError> {
-    if frame.width == 0 || frame.height == 0 {
+    let (left, right) = match views {
+        ExrViews::Mono(f) => (f, None),
+        ExrViews::Stereo { left, right } => (left, Some(right)),
+    };
+    if left.width == 0 || left.height == 0 {
         return Err(OutputError::BadSize {
             path: path.to_path_buf(),
-            width: frame.width,
-            height: frame.height,
+            width: left.width,
+            height: left.height,
         });
     }
-    let size = (frame.width as usize, frame.height as usize);
-    let at = move |p: exr::math::Vec2<usize>| p.x() + p.y() * frame.width as usize;
+    if let Some(r) = right
+        && (r.width, r.height) != (left.width, left.height)
+    {
+        return Err(OutputError::EyeSizeMismatch {
+            path: path.to_path_buf(),
+            left: (left.width, left.height),
+            right: (r.width, r.height),
+        });
+    }
+    let size = (left.width as usize, left.height as usize);
+    let at = move |p: exr::math::Vec2<usize>| p.x() + p.y() * left.width as usize;
+    let color = |f: &Frame, k: usize| {
+        let (rgb, a) = linear_pixel(f.color[k]);
+        (a, rgb[2], rgb[1], rgb[0], f.depth[k])
+    };
     // ZIP keeps float data lossless and compresses the large constant background well.
     // Samples are computed per block as the encoder asks, so no full-size float copy of the
     // frame is ever held (20 bytes a pixel at five channels).
     let encoding = Encoding::SMALL_LOSSLESS;
-    match content {
-        ExrContent::ColorAndDepth => {
+    let attrs = attributes(right.is_some());
+    let write = |layer_result: Result<(), exr::error::Error>| layer_result.map_err(exr_error(path));
+    // Channels are listed in the sorted order OpenEXR stores them in.
+    match (content, right) {
+        (ExrContent::ColorAndDepth, None) => {
             let channels = SpecificChannels::build()
                 .with_channel("A")
                 .with_channel("B")
                 .with_channel("G")
                 .with_channel("R")
                 .with_channel("Z")
+                .with_pixel_fn(|p| color(left, at(p)));
+            write(
+                Image::from_layer(Layer::new(size, attrs, encoding, channels))
+                    .write()
+                    .to_buffered(out),
+            )
+        }
+        (ExrContent::ColorAndDepth, Some(right)) => {
+            let channels = SpecificChannels::build()
+                .with_channel("A")
+                .with_channel("B")
+                .with_channel("G")
+                .with_channel("R")
+                .with_channel("Z")
+                .with_channel("right.A")
+                .with_channel("right.B")
+                .with_channel("right.G")
+                .with_channel("right.R")
+                .with_channel("right.Z")
                 .with_pixel_fn(|p| {
                     let k = at(p);
-                    let (rgb, a) = linear_pixel(frame.color[k]);
-                    (a, rgb[2], rgb[1], rgb[0], frame.depth[k])
+                    let (a, b, g, r, z) = color(left, k);
+                    let (ra, rb, rg, rr, rz) = color(right, k);
+                    (a, b, g, r, z, ra, rb, rg, rr, rz)
                 });
-            Image::from_layer(Layer::new(
-                size,
-                LayerAttributes::default(),
-                encoding,
-                channels,
-            ))
-            .write()
-            .to_buffered(out)
-            .map_err(exr_error(path))
+            write(
+                Image::from_layer(Layer::new(size, attrs, encoding, channels))
+                    .write()
+                    .to_buffered(out),
+            )
         }
-        ExrContent::DepthOnly => {
+        (ExrContent::DepthOnly, None) => {
             let channels = SpecificChannels::build()
                 .with_channel("Z")
-                .with_pixel_fn(|p| (frame.depth[at(p)],));
-            Image::from_layer(Layer::new(
-                size,
-                LayerAttributes::default(),
-                encoding,
-                channels,
-            ))
-            .write()
-            .to_buffered(out)
-            .map_err(exr_error(path))
+                .with_pixel_fn(|p| (left.depth[at(p)],));
+            write(
+                Image::from_layer(Layer::new(size, attrs, encoding, channels))
+                    .write()
+                    .to_buffered(out),
+            )
+        }
+        (ExrContent::DepthOnly, Some(right)) => {
+            let channels = SpecificChannels::build()
+                .with_channel("Z")
+                .with_channel("right.Z")
+                .with_pixel_fn(|p| {
+                    let k = at(p);
+                    (left.depth[k], right.depth[k])
+                });
+            write(
+                Image::from_layer(Layer::new(size, attrs, encoding, channels))
+                    .write()
+                    .to_buffered(out),
+            )
         }
     }
 }
 
 /// Reads the first layer of an EXR file. Missing `R`/`G`/`B` read as 0; a missing `Z` as
 /// `+inf`; a missing `A` is derived from `Z` (finite = hit). A file with neither `A` nor `Z`
-/// is an error.
+/// is an error. A multi-view file's first two views come back stacked top-bottom (first view
+/// on top), the layout of a top-bottom ODS pair.
 pub fn read_exr(path: &Path) -> Result<LinearImage, OutputError> {
     let image = exr::prelude::read_first_flat_layer_from_file(path).map_err(exr_error(path))?;
-    let layer = image.layer_data;
+    let layer = &image.layer_data;
+    let views = layer.attributes.multi_view_names.as_deref().unwrap_or(&[]);
+    if views.len() < 2 {
+        return read_view(layer, "", path);
+    }
+    // The first (default) view's channels may be unprefixed; the others carry `view.`.
+    let first = format!("{}.", views[0]);
+    let has_prefixed_first = layer
+        .channel_data
+        .list
+        .iter()
+        .any(|c| c.name.to_string().starts_with(&first));
+    let mut top = read_view(layer, if has_prefixed_first { &first } else { "" }, path)?;
+    let bottom = read_view(layer, &format!("{}.", views[1]), path)?;
+    top.height += bottom.height;
+    top.color.extend(bottom.color);
+    top.coverage.extend(bottom.coverage);
+    top.depth.extend(bottom.depth);
+    Ok(top)
+}
+
+/// A layer as the reader gives it: any channels, flat samples.
+type FlatLayer = Layer<AnyChannels<FlatSamples>>;
+
+/// The channels `{prefix}R`, `{prefix}G`, … of a flat layer as one image.
+fn read_view(layer: &FlatLayer, prefix: &str, path: &Path) -> Result<LinearImage, OutputError> {
     let (w, h) = (layer.size.width(), layer.size.height());
     let n = w * h;
     let channel = |name: &str| -> Option<Vec<f32>> {
+        let full = format!("{prefix}{name}");
         layer
             .channel_data
             .list
             .iter()
-            .find(|c| c.name.eq(name))
+            .find(|c| c.name.eq(full.as_str()))
             .map(|c| c.sample_data.values_as_f32().collect())
     };
     let zeros = || vec![0.0f32; n];

@@ -1,13 +1,14 @@
-//! Writing renders to files: stereo layout, format by extension, depth-only EXR.
+//! Writing renders to files: stereo layout, format by extension, metadata, depth-only EXR.
 
-use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use super::OutputError;
 use super::atomic::{StagedFile, commit_all};
-use super::exr::{ExrContent, encode_exr};
+use super::exr::{ExrContent, ExrViews, encode_exr};
 use super::format::ImageFormat;
+use super::jpeg::{encode_jpeg, encode_vr_jpeg};
 use super::png::encode_png;
+use super::xmp::{PhotoSphere, heading_from_yaw};
 use crate::frame::{Frame, Rendered};
 
 /// How a stereo render is laid out in files. Mono renders always give one file.
@@ -33,61 +34,177 @@ pub fn eye_path(path: &Path, eye: &str) -> PathBuf {
     path.with_file_name(name)
 }
 
-/// The (file, frame) pairs a render gives under `layout`; only a top-bottom pair is a new
-/// image, the others borrow the rendered frames (no copy of a large panorama).
-fn frames_for<'r>(
+/// How files are written besides their format: stereo layout, JPEG quality, camera heading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OutputOptions {
+    /// Stereo layout (ignored for mono renders and `.vr.jpg`, which holds both eyes).
+    pub layout: Layout,
+    /// JPEG quality, 1..=100.
+    pub jpeg_quality: u8,
+    /// The camera's `yaw` in degrees (DESIGN §1), written as the panorama's heading.
+    pub yaw_degrees: f64,
+}
+
+impl Default for OutputOptions {
+    fn default() -> Self {
+        OutputOptions {
+            layout: Layout::TopBottom,
+            jpeg_quality: super::jpeg::DEFAULT_QUALITY,
+            yaw_degrees: 0.0,
+        }
+    }
+}
+
+/// What one file holds.
+#[derive(Debug, Clone, Copy)]
+enum Content<'r> {
+    /// One full equirectangular panorama (mono, or one eye of separate files).
+    Pano(&'r Frame),
+    /// Both eyes of an ODS render in one file.
+    Pair { left: &'r Frame, right: &'r Frame },
+}
+
+/// The files a render gives under `layout` and what each holds.
+fn files_for<'r>(
     path: &Path,
     rendered: &'r Rendered,
     layout: Layout,
-) -> Vec<(PathBuf, Cow<'r, Frame>)> {
-    match (rendered, layout) {
-        (Rendered::Mono(f), _) => vec![(path.to_path_buf(), Cow::Borrowed(f))],
-        (Rendered::Stereo { .. }, Layout::TopBottom) => {
-            vec![(path.to_path_buf(), Cow::Owned(rendered.top_bottom()))]
+    format: ImageFormat,
+) -> Result<Vec<(PathBuf, Content<'r>)>, OutputError> {
+    let not_stereo = || OutputError::NotStereo {
+        path: path.to_path_buf(),
+        what: "a VR photo (.vr.jpg)",
+    };
+    Ok(match rendered {
+        Rendered::Mono(_) if format == ImageFormat::VrJpeg => return Err(not_stereo()),
+        Rendered::Mono(f) => vec![(path.to_path_buf(), Content::Pano(f))],
+        // A VR photo holds both eyes whatever the layout.
+        Rendered::Stereo { left, right }
+            if layout == Layout::SeparateEyes && format != ImageFormat::VrJpeg =>
+        {
+            vec![
+                (eye_path(path, "left"), Content::Pano(left)),
+                (eye_path(path, "right"), Content::Pano(right)),
+            ]
         }
-        (Rendered::Stereo { left, right }, Layout::SeparateEyes) => vec![
-            (eye_path(path, "left"), Cow::Borrowed(left)),
-            (eye_path(path, "right"), Cow::Borrowed(right)),
-        ],
-    }
+        Rendered::Stereo { left, right } => {
+            vec![(path.to_path_buf(), Content::Pair { left, right })]
+        }
+    })
 }
 
 /// Stages every file first and renames them only when all were written, so a failure leaves
 /// none of them.
-fn write_frames(
-    files: Vec<(PathBuf, Cow<'_, Frame>)>,
-    write: impl Fn(&Frame, &mut std::io::BufWriter<std::fs::File>, &Path) -> Result<(), OutputError>,
+fn write_files(
+    files: Vec<(PathBuf, Content<'_>)>,
+    write: impl Fn(
+        Content<'_>,
+        &mut std::io::BufWriter<std::fs::File>,
+        &Path,
+    ) -> Result<(), OutputError>,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let staged = files
         .iter()
-        .map(|(p, f)| StagedFile::create(p, |w| write(f, w, p)))
+        .map(|(p, c)| StagedFile::create(p, |w| write(*c, w, p)))
         .collect::<Result<Vec<_>, _>>()?;
     commit_all(staged)
 }
 
-/// Writes the colour image(s) of `rendered`, PNG or EXR by `path`'s extension, each file
-/// atomically. Returns the files written (two for [`Layout::SeparateEyes`] in stereo).
+/// Both eyes stacked top-bottom (left on top, DESIGN §6).
+fn stack(left: &Frame, right: &Frame, path: &Path) -> Result<Frame, OutputError> {
+    if left.width != right.width {
+        return Err(OutputError::EyeSizeMismatch {
+            path: path.to_path_buf(),
+            left: (left.width, left.height),
+            right: (right.width, right.height),
+        });
+    }
+    let mut out = left.clone();
+    out.height += right.height;
+    out.color.extend_from_slice(&right.color);
+    out.depth.extend_from_slice(&right.depth);
+    Ok(out)
+}
+
+/// Writes the colour image(s) of `rendered` with default [`OutputOptions`] but `layout`
+/// (heading 0, JPEG quality 90); see [`write_image_with`].
 pub fn write_image(
     path: &Path,
     rendered: &Rendered,
     layout: Layout,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    let options = OutputOptions {
+        layout,
+        ..OutputOptions::default()
+    };
+    write_image_with(path, rendered, &options)
+}
+
+/// Writes the colour image(s) of `rendered`, the format by `path`'s extension, each file
+/// atomically. Returns the files written (two for [`Layout::SeparateEyes`] in stereo).
+///
+/// Metadata that 360° players read:
+/// - a full panorama (mono, or one eye of separate files) in PNG or JPEG carries Photo
+///   Sphere XMP (GPano) with the heading from `yaw_degrees`;
+/// - a top-bottom ODS PNG or JPEG carries none: GPano describes one sphere, and a viewer
+///   that trusted it would stretch both eyes over one sphere. Players recognise top-bottom
+///   stereo from the file name (`_360_TB`) instead;
+/// - `.vr.jpg` is Google's VR Photo (left eye with GPano, right eye in extended XMP);
+/// - EXR files are marked `envmap = latlong`; an ODS pair is a multi-view file.
+///
+/// JPEG files also carry a small EXIF block (make and model `omnicloud`).
+pub fn write_image_with(
+    path: &Path,
+    rendered: &Rendered,
+    options: &OutputOptions,
+) -> Result<Vec<PathBuf>, OutputError> {
     let format = ImageFormat::from_path(path)?;
-    write_frames(frames_for(path, rendered, layout), |f, w, p| match format {
-        ImageFormat::Png => encode_png(f, w, p),
-        ImageFormat::Exr => encode_exr(f, ExrContent::ColorAndDepth, w, p),
+    let quality = options.jpeg_quality;
+    let heading_degrees = heading_from_yaw(options.yaw_degrees);
+    let sphere = |f: &Frame| PhotoSphere {
+        width: f.width,
+        height: f.height,
+        heading_degrees,
+    };
+    let files = files_for(path, rendered, options.layout, format)?;
+    write_files(files, |content, w, p| match (format, content) {
+        (ImageFormat::Png, Content::Pano(f)) => encode_png(f, Some(&sphere(f)), w, p),
+        (ImageFormat::Png, Content::Pair { left, right }) => {
+            encode_png(&stack(left, right, p)?, None, w, p)
+        }
+        (ImageFormat::Jpeg, Content::Pano(f)) => encode_jpeg(f, quality, Some(&sphere(f)), w, p),
+        (ImageFormat::Jpeg, Content::Pair { left, right }) => {
+            encode_jpeg(&stack(left, right, p)?, quality, None, w, p)
+        }
+        (ImageFormat::VrJpeg, Content::Pair { left, right }) => {
+            encode_vr_jpeg(left, right, quality, heading_degrees, w, p)
+        }
+        (ImageFormat::VrJpeg, Content::Pano(_)) => Err(OutputError::NotStereo {
+            path: p.to_path_buf(),
+            what: "a VR photo (.vr.jpg)",
+        }),
+        (ImageFormat::Exr, c) => encode_exr(exr_views(c), ExrContent::ColorAndDepth, w, p),
     })
 }
 
+fn exr_views(content: Content<'_>) -> ExrViews<'_> {
+    match content {
+        Content::Pano(f) => ExrViews::Mono(f),
+        Content::Pair { left, right } => ExrViews::Stereo { left, right },
+    }
+}
+
 /// Writes depth only (a single `Z` channel, metres along the ray, `+inf` background) to an
-/// `.exr` file, with the same stereo layout rules as [`write_image`].
+/// `.exr` file, with the same stereo layout rules as [`write_image`] (an ODS pair is one
+/// multi-view file with `Z` and `right.Z`).
 pub fn write_depth(
     path: &Path,
     rendered: &Rendered,
     layout: Layout,
 ) -> Result<Vec<PathBuf>, OutputError> {
     ImageFormat::require(path, ImageFormat::Exr)?;
-    write_frames(frames_for(path, rendered, layout), |f, w, p| {
-        encode_exr(f, ExrContent::DepthOnly, w, p)
+    let files = files_for(path, rendered, layout, ImageFormat::Exr)?;
+    write_files(files, |c, w, p| {
+        encode_exr(exr_views(c), ExrContent::DepthOnly, w, p)
     })
 }

@@ -8,22 +8,48 @@ use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 
 use super::OutputError;
+use super::xmp::{PhotoSphere, photo_sphere_packet};
 use crate::frame::Frame;
 
-/// Encodes `frame` as an RGBA PNG into `out`; `path` names the file in errors.
-pub fn encode_png(frame: &Frame, out: impl Write, path: &Path) -> Result<(), OutputError> {
-    let bytes: &[u8] = bytemuck::cast_slice(&frame.color);
-    PngEncoder::new(out)
-        .write_image(
-            bytes,
-            frame.width,
-            frame.height,
-            image::ExtendedColorType::Rgba8,
-        )
-        .map_err(|source| OutputError::Png {
+/// The keyword of the iTXt chunk that holds an XMP packet.
+pub const XMP_KEYWORD: &str = "XML:com.adobe.xmp";
+
+/// Encodes `frame` as an RGBA PNG into `out`; `sphere` adds a Photo Sphere XMP packet (an
+/// uncompressed iTXt chunk before the image data, where viewers look for it). `path` names
+/// the file in errors.
+pub fn encode_png(
+    frame: &Frame,
+    sphere: Option<&PhotoSphere>,
+    out: impl Write,
+    path: &Path,
+) -> Result<(), OutputError> {
+    let err = |source| OutputError::PngEncode {
+        path: path.to_path_buf(),
+        source,
+    };
+    if frame.width == 0 || frame.height == 0 {
+        return Err(OutputError::BadSize {
             path: path.to_path_buf(),
-            source,
-        })
+            width: frame.width,
+            height: frame.height,
+        });
+    }
+    let mut encoder = png::Encoder::new(out, frame.width, frame.height);
+    encoder.set_color(png::ColorType::Rgba);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    // Fast deflate, as the `image` crate's encoder uses: panoramas are large.
+    encoder.set_compression(png::Compression::Fast);
+    if let Some(s) = sphere {
+        encoder
+            .add_itxt_chunk(XMP_KEYWORD.to_owned(), photo_sphere_packet(s))
+            .map_err(err)?;
+    }
+    let mut writer = encoder.write_header().map_err(err)?;
+    writer
+        .write_image_data(bytemuck::cast_slice(&frame.color))
+        .map_err(err)?;
+    writer.finish().map_err(err)
 }
 
 /// Reads a PNG into a frame: colour and coverage from RGBA (an opaque PNG counts as all hit),
