@@ -33,7 +33,9 @@ impl Reply {
 /// Sends raw bytes (so paths reach the server exactly as written) and reads the reply.
 fn send(addr: SocketAddr, raw: &[u8]) -> Reply {
     let mut stream = TcpStream::connect(addr).unwrap();
-    stream.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .unwrap();
     stream.write_all(raw).unwrap();
     let mut bytes = Vec::new();
     stream.read_to_end(&mut bytes).unwrap();
@@ -86,11 +88,20 @@ fn the_page_its_script_the_info_and_each_frame_are_served() {
 
     let page = get(addr, "/");
     assert_eq!(page.status, 200);
-    assert!(page.header("content-type").unwrap().starts_with("text/html"));
+    assert!(
+        page.header("content-type")
+            .unwrap()
+            .starts_with("text/html")
+    );
     assert!(page.text().contains(r#"<script src="/viewer.js">"#));
     let script = get(addr, "/viewer.js");
     assert_eq!(script.status, 200);
-    assert!(script.header("content-type").unwrap().starts_with("text/javascript"));
+    assert!(
+        script
+            .header("content-type")
+            .unwrap()
+            .starts_with("text/javascript")
+    );
     assert!(script.text().contains("immersive-vr"));
 
     let info = get(addr, "/api/info");
@@ -110,7 +121,11 @@ fn the_page_its_script_the_info_and_each_frame_are_served() {
     }
     let past_end = get(addr, "/frames/3");
     assert_eq!(past_end.status, 404);
-    assert!(past_end.text().contains("numbered 0 to 2"), "{}", past_end.text());
+    assert!(
+        past_end.text().contains("numbered 0 to 2"),
+        "{}",
+        past_end.text()
+    );
 
     let head = send(
         addr,
@@ -130,7 +145,10 @@ fn a_square_image_is_an_ods_pair_and_a_view_link_is_checked() {
         serde_json::from_slice(&get(server.addr(), "/api/info").body).unwrap();
     assert_eq!(json["kind"], "ods");
     assert_eq!(json["frames"], 1);
-    let linked = get(server.addr(), "/?yaw=30&pitch=-10&fov=75&mode=anaglyph&frame=0");
+    let linked = get(
+        server.addr(),
+        "/?yaw=30&pitch=-10&fov=75&mode=anaglyph&frame=0",
+    );
     assert_eq!(linked.status, 200, "{}", linked.text());
 }
 
@@ -175,7 +193,10 @@ fn traversal_attempts_get_403_or_404_and_never_a_file() {
             "{target}: status {}",
             r.status
         );
-        assert!(!r.text().contains("SECRET-CONTENT"), "{target} leaked the file");
+        assert!(
+            !r.text().contains("SECRET-CONTENT"),
+            "{target} leaked the file"
+        );
         assert!(!r.body.starts_with(b"\x89PNG"), "{target} served a frame");
         assert!(!r.text().contains("root:"), "{target} served /etc/passwd");
     }
@@ -232,7 +253,9 @@ fn broken_requests_other_methods_and_foreign_hosts_are_refused() {
 
     // Garbage, and a connection that closes mid-request: no reply needed, no harm done.
     let mut garbage = TcpStream::connect(addr).unwrap();
-    garbage.write_all(b"\x00\x01NOT HTTP AT ALL\r\n\r\n").unwrap();
+    garbage
+        .write_all(b"\x00\x01NOT HTTP AT ALL\r\n\r\n")
+        .unwrap();
     drop(garbage);
     let mut half = TcpStream::connect(addr).unwrap();
     half.write_all(b"GET /api/in").unwrap();
@@ -250,7 +273,10 @@ fn a_busy_port_and_a_missing_file_are_clear_errors() {
         .err()
         .expect("the port is taken")
         .to_string();
-    assert!(e.contains(&format!("cannot listen on 127.0.0.1:{taken}")), "{e}");
+    assert!(
+        e.contains(&format!("cannot listen on 127.0.0.1:{taken}")),
+        "{e}"
+    );
     let e = Panorama::open(&dir.path().join("nope.png"))
         .unwrap_err()
         .to_string();

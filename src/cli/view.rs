@@ -100,7 +100,11 @@ fn open_browser(url: &str) {
     } else {
         ("xdg-open", &[])
     };
-    if let Err(e) = std::process::Command::new(program).args(args).arg(url).spawn() {
+    if let Err(e) = std::process::Command::new(program)
+        .args(args)
+        .arg(url)
+        .spawn()
+    {
         eprintln!("warning: could not open a browser ({program}: {e}); open {url} yourself");
     }
 }

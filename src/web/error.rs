@@ -40,7 +40,9 @@ pub enum WebError {
         path: PathBuf,
     },
     /// A frame of a folder differs in size from the first.
-    #[error("{path} is {width}x{height}, but the first frame {first} is {first_width}x{first_height}")]
+    #[error(
+        "{path} is {width}x{height}, but the first frame {first} is {first_width}x{first_height}"
+    )]
     FrameSize {
         /// The odd frame.
         path: PathBuf,

@@ -215,7 +215,10 @@ mod tests {
 
     #[test]
     fn the_aspect_ratio_tells_mono_from_ods() {
-        assert_eq!(PanoramaKind::from_size(4096, 2048), Some(PanoramaKind::Mono));
+        assert_eq!(
+            PanoramaKind::from_size(4096, 2048),
+            Some(PanoramaKind::Mono)
+        );
         assert_eq!(PanoramaKind::from_size(2048, 2048), Some(PanoramaKind::Ods));
         assert_eq!(PanoramaKind::from_size(2047, 2047), None);
         assert_eq!(PanoramaKind::from_size(4096, 2000), None);
@@ -226,7 +229,12 @@ mod tests {
     fn a_folder_serves_its_frames_in_name_order_and_skips_other_files() {
         let dir = tempfile::tempdir().unwrap();
         let img = image::RgbImage::new(8, 4);
-        for name in ["frame_000002.png", "frame_000000.png", "frame_000001.png", "z.png"] {
+        for name in [
+            "frame_000002.png",
+            "frame_000000.png",
+            "frame_000001.png",
+            "z.png",
+        ] {
             img.save(dir.path().join(name)).unwrap();
         }
         std::fs::write(dir.path().join("notes.txt"), "x").unwrap();

@@ -10,7 +10,7 @@ const VIEW_KEYS: [&str; 5] = ["yaw", "pitch", "fov", "mode", "frame"];
 pub const MODES: [&str; 4] = ["mono", "anaglyph", "left", "right"];
 
 /// Checks a query string against the keys a route accepts: each at most once.
-pub fn pairs<'q>(query: &'q str, allowed: &[&str]) -> Result<Vec<(String, String)>, String> {
+pub fn pairs(query: &str, allowed: &[&str]) -> Result<Vec<(String, String)>, String> {
     let mut seen: Vec<(String, String)> = Vec::new();
     for (key, value) in form_urlencoded::parse(query.as_bytes()) {
         if !allowed.contains(&key.as_ref()) {

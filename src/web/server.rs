@@ -8,10 +8,10 @@ use std::time::Duration;
 
 use tiny_http::{Header, Response, Server};
 
+use super::WebError;
 use super::host::loopback_host;
 use super::panorama::Panorama;
 use super::routes::{Body, Reply, route};
-use super::WebError;
 
 /// Requests answered at once: a frame being sent does not hold up the page or the next frame.
 const WORKERS: usize = 4;
