@@ -252,6 +252,16 @@ mod tests {
     }
 
     #[test]
+    fn a_jpeg_panorama_is_served_as_jpeg() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("pano.JPG");
+        image::RgbImage::new(16, 8).save(&file).unwrap();
+        let p = Panorama::open(&file).unwrap();
+        assert_eq!((p.kind, p.width, p.height), (PanoramaKind::Mono, 16, 8));
+        assert_eq!(p.frames[0].image_type.mime(), "image/jpeg");
+    }
+
+    #[test]
     fn frames_of_different_sizes_are_refused_by_name() {
         let dir = tempfile::tempdir().unwrap();
         image::RgbImage::new(8, 4)
