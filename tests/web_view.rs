@@ -264,6 +264,18 @@ fn broken_requests_other_methods_and_foreign_hosts_are_refused() {
 }
 
 #[test]
+fn a_frame_deleted_while_serving_gets_500_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    write_frames(dir.path(), 2);
+    let server = serve(dir.path());
+    std::fs::remove_file(dir.path().join("frame_000001.png")).unwrap();
+    let r = get(server.addr(), "/frames/1");
+    assert_eq!(r.status, 500);
+    assert!(r.text().contains("frame_000001.png"), "{}", r.text());
+    assert_eq!(get(server.addr(), "/frames/0").status, 200);
+}
+
+#[test]
 fn a_busy_port_and_a_missing_file_are_clear_errors() {
     let dir = tempfile::tempdir().unwrap();
     write_frames(dir.path(), 1);

@@ -151,17 +151,11 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
                 reply.status,
                 reply.content_type,
             )),
-            Err(e) => {
-                let err = Reply::error(500, format!("cannot read {}: {e}", path.display()));
-                let Body::Text(text) = err.body else {
-                    unreachable!("Reply::error gives text")
-                };
-                request.respond(with_headers(
-                    Response::from_data(text.into_bytes()),
-                    err.status,
-                    err.content_type,
-                ))
-            }
+            Err(e) => request.respond(with_headers(
+                Response::from_data(format!("cannot read {}: {e}\n", path.display())),
+                500,
+                "text/plain; charset=utf-8",
+            )),
         },
     };
 }

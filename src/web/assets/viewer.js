@@ -234,8 +234,10 @@
 
   // Schedules a redraw; the promise settles once it is on screen.
   function requestDraw() {
+    // In VR the headset's frame loop draws; there is no flat view to wait for.
+    if (xr) return Promise.resolve();
     const done = new Promise((resolve) => afterDraw.push(resolve));
-    if (!drawPending && !xr) {
+    if (!drawPending) {
       drawPending = true;
       requestAnimationFrame(drawScreen);
     }
