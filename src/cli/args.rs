@@ -38,6 +38,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Time every rasterizer mode against the ray-traced reference: tables and charts.
     Bench(BenchArgs),
+    /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
+    View(super::view::ViewerArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.

@@ -7,12 +7,14 @@ mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
+mod view;
 
 use anyhow::{Context, Result};
 
 use crate::prepare::radius;
 
 pub use args::{Cli, Command};
+pub use view::ViewerArgs;
 
 /// Runs one parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
@@ -30,6 +32,7 @@ pub fn run(cli: Cli) -> Result<()> {
             println!("{report}");
             Ok(())
         }
+        Command::View(args) => view::run(&args),
     }
 }
 

@@ -1,0 +1,18 @@
+//! `omnicloud view`: a local web server that shows a panorama (mono or ODS top-bottom) or a
+//! tour folder of frames in the browser, and in a headset through WebXR.
+//!
+//! The page samples the equirect image per pixel along each view ray (DESIGN.md section 2:
+//! longitude 0 at the image centre, +90° to the right, latitude +90° on the top row), so a
+//! direction in the page is the direction the renderer gave that pixel.
+
+mod assets;
+mod error;
+mod host;
+pub mod panorama;
+pub mod query;
+pub mod routes;
+mod server;
+
+pub use error::WebError;
+pub use panorama::{Panorama, PanoramaInfo, PanoramaKind};
+pub use server::{Running, Stopper, ViewServer};

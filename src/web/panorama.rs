@@ -1,0 +1,293 @@
+//! The panoramas a viewer serves: one image, or the frames of a tour folder, all of one shape.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::WebError;
+
+/// Mono equirect (2:1) or an ODS pair, left eye on top (1:1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum PanoramaKind {
+    /// One 2:1 equirectangular image.
+    Mono,
+    /// Two 2:1 equirectangular images stacked, left eye on top.
+    Ods,
+}
+
+impl PanoramaKind {
+    /// The kind an image of this size holds, by aspect ratio; `None` for other shapes.
+    pub fn from_size(width: u32, height: u32) -> Option<Self> {
+        let (w, h) = (u64::from(width), u64::from(height));
+        match () {
+            _ if h > 0 && w == 2 * h => Some(Self::Mono),
+            _ if h > 0 && w == h && h % 2 == 0 => Some(Self::Ods),
+            _ => None,
+        }
+    }
+}
+
+/// A PNG or JPEG file, by its extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ImageType {
+    /// `.png`
+    Png,
+    /// `.jpg` or `.jpeg`
+    Jpeg,
+}
+
+impl ImageType {
+    /// The type a file's extension names (case-insensitive), if any.
+    pub fn of(path: &Path) -> Option<Self> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "png" => Some(Self::Png),
+            "jpg" | "jpeg" => Some(Self::Jpeg),
+            _ => None,
+        }
+    }
+
+    /// The HTTP media type.
+    pub fn mime(self) -> &'static str {
+        match self {
+            Self::Png => "image/png",
+            Self::Jpeg => "image/jpeg",
+        }
+    }
+}
+
+/// One served image file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameFile {
+    /// Where it lies.
+    pub path: PathBuf,
+    /// PNG or JPEG.
+    pub image_type: ImageType,
+}
+
+/// What `omnicloud view` shows: the frames (one for a single image) and their common shape.
+#[derive(Debug, Clone)]
+pub struct Panorama {
+    /// Mono or ODS.
+    pub kind: PanoramaKind,
+    /// Width of every frame in pixels.
+    pub width: u32,
+    /// Height of every frame in pixels.
+    pub height: u32,
+    /// The frames, in playing order; never empty.
+    pub frames: Vec<FrameFile>,
+}
+
+/// The JSON of `/api/info`.
+#[derive(Debug, Clone, Serialize)]
+pub struct PanoramaInfo {
+    /// `mono` or `ods`.
+    pub kind: PanoramaKind,
+    /// Frame width in pixels.
+    pub width: u32,
+    /// Frame height in pixels.
+    pub height: u32,
+    /// Number of frames (1 for a single image).
+    pub frames: usize,
+}
+
+impl Panorama {
+    /// Opens a PNG/JPEG panorama, or a folder of frames: its `frame_*` images when it has
+    /// any, else all its PNG/JPEG files, sorted by name. Reads only the image headers.
+    pub fn open(path: &Path) -> Result<Self, WebError> {
+        let read = |source| WebError::Read {
+            path: path.to_path_buf(),
+            source,
+        };
+        if std::fs::metadata(path).map_err(read)?.is_dir() {
+            Self::from_frames(path, folder_frames(path)?)
+        } else {
+            let Some(image_type) = ImageType::of(path) else {
+                return Err(WebError::NotAnImage {
+                    path: path.to_path_buf(),
+                    reason: "the name does not end in .png, .jpg or .jpeg".into(),
+                });
+            };
+            let frame = FrameFile {
+                path: path.to_path_buf(),
+                image_type,
+            };
+            Self::from_frames(path, vec![frame])
+        }
+    }
+
+    fn from_frames(origin: &Path, frames: Vec<FrameFile>) -> Result<Self, WebError> {
+        let Some(first) = frames.first() else {
+            return Err(WebError::NoFrames {
+                path: origin.to_path_buf(),
+            });
+        };
+        let (width, height) = dimensions(&first.path)?;
+        let kind = PanoramaKind::from_size(width, height).ok_or_else(|| WebError::Shape {
+            path: first.path.clone(),
+            width,
+            height,
+        })?;
+        for frame in &frames[1..] {
+            let (w, h) = dimensions(&frame.path)?;
+            if (w, h) != (width, height) {
+                return Err(WebError::FrameSize {
+                    path: frame.path.clone(),
+                    width: w,
+                    height: h,
+                    first: first.path.clone(),
+                    first_width: width,
+                    first_height: height,
+                });
+            }
+        }
+        Ok(Self {
+            kind,
+            width,
+            height,
+            frames,
+        })
+    }
+
+    /// What `/api/info` answers.
+    pub fn info(&self) -> PanoramaInfo {
+        PanoramaInfo {
+            kind: self.kind,
+            width: self.width,
+            height: self.height,
+            frames: self.frames.len(),
+        }
+    }
+}
+
+/// The image files of a folder in name order: `frame_*` ones if there are any, else all.
+fn folder_frames(dir: &Path) -> Result<Vec<FrameFile>, WebError> {
+    let read = |source| WebError::Read {
+        path: dir.to_path_buf(),
+        source,
+    };
+    let mut images = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(read)? {
+        let entry = entry.map_err(read)?;
+        let path = entry.path();
+        if let Some(image_type) = ImageType::of(&path)
+            && entry.file_type().map_err(read)?.is_file()
+        {
+            images.push(FrameFile { path, image_type });
+        }
+    }
+    let is_frame = |f: &FrameFile| {
+        f.path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.starts_with("frame_"))
+    };
+    if images.iter().any(is_frame) {
+        images.retain(is_frame);
+    }
+    images.sort_by(|a, b| a.path.file_name().cmp(&b.path.file_name()));
+    Ok(images)
+}
+
+fn dimensions(path: &Path) -> Result<(u32, u32), WebError> {
+    let not_image = |e: image::ImageError| WebError::NotAnImage {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    image::ImageReader::open(path)
+        .map_err(|source| WebError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .with_guessed_format()
+        .map_err(|source| WebError::Read {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .into_dimensions()
+        .map_err(not_image)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_aspect_ratio_tells_mono_from_ods() {
+        assert_eq!(
+            PanoramaKind::from_size(4096, 2048),
+            Some(PanoramaKind::Mono)
+        );
+        assert_eq!(PanoramaKind::from_size(2048, 2048), Some(PanoramaKind::Ods));
+        assert_eq!(PanoramaKind::from_size(2047, 2047), None);
+        assert_eq!(PanoramaKind::from_size(4096, 2000), None);
+        assert_eq!(PanoramaKind::from_size(0, 0), None);
+    }
+
+    #[test]
+    fn a_folder_serves_its_frames_in_name_order_and_skips_other_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let img = image::RgbImage::new(8, 4);
+        for name in [
+            "frame_000002.png",
+            "frame_000000.png",
+            "frame_000001.png",
+            "z.png",
+        ] {
+            img.save(dir.path().join(name)).unwrap();
+        }
+        std::fs::write(dir.path().join("notes.txt"), "x").unwrap();
+        let p = Panorama::open(dir.path()).unwrap();
+        let names: Vec<_> = p
+            .frames
+            .iter()
+            .map(|f| f.path.file_name().unwrap().to_str().unwrap().to_owned())
+            .collect();
+        assert_eq!(
+            names,
+            ["frame_000000.png", "frame_000001.png", "frame_000002.png"]
+        );
+        assert_eq!((p.kind, p.width, p.height), (PanoramaKind::Mono, 8, 4));
+    }
+
+    #[test]
+    fn a_jpeg_panorama_is_served_as_jpeg() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("pano.JPG");
+        image::RgbImage::new(16, 8).save(&file).unwrap();
+        let p = Panorama::open(&file).unwrap();
+        assert_eq!((p.kind, p.width, p.height), (PanoramaKind::Mono, 16, 8));
+        assert_eq!(p.frames[0].image_type.mime(), "image/jpeg");
+    }
+
+    #[test]
+    fn frames_of_different_sizes_are_refused_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        image::RgbImage::new(8, 4)
+            .save(dir.path().join("frame_0.png"))
+            .unwrap();
+        image::RgbImage::new(16, 8)
+            .save(dir.path().join("frame_1.png"))
+            .unwrap();
+        let e = Panorama::open(dir.path()).unwrap_err().to_string();
+        assert!(e.contains("frame_1.png is 16x8"), "{e}");
+    }
+
+    #[test]
+    fn odd_shapes_and_non_images_are_refused_with_the_file_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let wide = dir.path().join("wide.png");
+        image::RgbImage::new(9, 4).save(&wide).unwrap();
+        let e = Panorama::open(&wide).unwrap_err().to_string();
+        assert!(e.contains("wide.png is 9x4"), "{e}");
+        let fake = dir.path().join("fake.png");
+        std::fs::write(&fake, "not a png").unwrap();
+        let e = Panorama::open(&fake).unwrap_err().to_string();
+        assert!(e.contains("fake.png is not a PNG or JPEG"), "{e}");
+        let empty = dir.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        let e = Panorama::open(&empty).unwrap_err().to_string();
+        assert!(e.contains("holds no PNG or JPEG frames"), "{e}");
+    }
+}

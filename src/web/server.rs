@@ -1,0 +1,181 @@
+//! The viewer's HTTP server: tiny_http on a listener of our own, a few worker threads that
+//! answer with [`routes::route`](super::routes::route) until stopped.
+
+use std::net::{SocketAddr, TcpListener};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use tiny_http::{Header, Response, Server};
+
+use super::WebError;
+use super::host::loopback_host;
+use super::panorama::Panorama;
+use super::routes::{Body, Reply, route};
+
+/// Requests answered at once: a frame being sent does not hold up the page or the next frame.
+const WORKERS: usize = 4;
+
+/// How often an idle worker looks whether it should stop.
+const STOP_POLL: Duration = Duration::from_millis(100);
+
+/// A bound viewer server, not yet serving.
+pub struct ViewServer {
+    server: Arc<Server>,
+    addr: SocketAddr,
+    panorama: Arc<Panorama>,
+    stop: Arc<AtomicBool>,
+}
+
+/// Stops a serving [`ViewServer`] from another thread (a Ctrl-C handler, a test).
+#[derive(Clone)]
+pub struct Stopper(Arc<AtomicBool>);
+
+impl Stopper {
+    /// Asks the server to stop; `serve` returns within a fraction of a second.
+    pub fn stop(&self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
+}
+
+impl ViewServer {
+    /// Listens on `host:port` (port 0: any free port) for requests about `panorama`.
+    pub fn bind(host: &str, port: u16, panorama: Panorama) -> Result<Self, WebError> {
+        let bind_err = |reason: String| WebError::Bind {
+            addr: format!("{host}:{port}"),
+            reason,
+        };
+        let listener = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
+        let addr = listener.local_addr().map_err(|e| bind_err(e.to_string()))?;
+        let server = Server::from_listener(listener, None).map_err(|e| bind_err(e.to_string()))?;
+        Ok(Self {
+            server: Arc::new(server),
+            addr,
+            panorama: Arc::new(panorama),
+            stop: Arc::new(AtomicBool::new(false)),
+        })
+    }
+
+    /// The address it listens on (with the real port when bound to port 0).
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// A handle that stops [`serve`](Self::serve).
+    pub fn stopper(&self) -> Stopper {
+        Stopper(self.stop.clone())
+    }
+
+    /// Answers requests until stopped. A bad request gets its error reply and changes nothing.
+    pub fn serve(self) {
+        let loopback_only = self.addr.ip().is_loopback();
+        std::thread::scope(|scope| {
+            for _ in 0..WORKERS {
+                scope.spawn(|| {
+                    while !self.stop.load(Ordering::SeqCst) {
+                        // Err: a connection failed before its request was read; keep going.
+                        if let Ok(Some(request)) = self.server.recv_timeout(STOP_POLL) {
+                            answer(request, &self.panorama, loopback_only);
+                        }
+                    }
+                });
+            }
+        });
+    }
+
+    /// Serves on a background thread; the returned handle stops it and waits.
+    pub fn spawn(self) -> Running {
+        let stopper = self.stopper();
+        let addr = self.addr;
+        let thread = std::thread::spawn(move || self.serve());
+        Running {
+            addr,
+            stopper,
+            thread: Some(thread),
+        }
+    }
+}
+
+/// A server serving on its own thread; dropping it stops the server.
+pub struct Running {
+    addr: SocketAddr,
+    stopper: Stopper,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Running {
+    /// The address it listens on.
+    pub fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        self.stopper.stop();
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool) {
+    let host = request
+        .headers()
+        .iter()
+        .find(|h| h.field.equiv("Host"))
+        .map(|h| h.value.as_str().to_owned());
+    let reply = if loopback_only && !loopback_host(host.as_deref()) {
+        Reply::error(
+            403,
+            "this server answers only requests addressed to localhost or 127.0.0.1",
+        )
+    } else {
+        route(request.method().as_str(), request.url(), panorama)
+    };
+    // A client that went away while we answered is no concern of the server's.
+    let _ = match reply.body {
+        Body::Static(text) => request.respond(with_headers(
+            Response::from_data(text.as_bytes()),
+            reply.status,
+            reply.content_type,
+        )),
+        Body::Text(text) => request.respond(with_headers(
+            Response::from_data(text.into_bytes()),
+            reply.status,
+            reply.content_type,
+        )),
+        Body::File(path) => match std::fs::File::open(&path) {
+            Ok(file) => request.respond(with_headers(
+                Response::from_file(file),
+                reply.status,
+                reply.content_type,
+            )),
+            Err(e) => request.respond(with_headers(
+                Response::from_data(format!("cannot read {}: {e}\n", path.display())),
+                500,
+                "text/plain; charset=utf-8",
+            )),
+        },
+    };
+}
+
+fn with_headers<R: std::io::Read>(
+    response: Response<R>,
+    status: u16,
+    content_type: &str,
+) -> Response<R> {
+    let header = |name: &str, value: &str| {
+        Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
+    };
+    response
+        .with_status_code(status)
+        .with_header(header("Content-Type", content_type))
+        .with_header(header("Cache-Control", "no-cache"))
+        .with_header(header("X-Content-Type-Options", "nosniff"))
+        .with_header(header("Referrer-Policy", "no-referrer"))
+        .with_header(header(
+            "Content-Security-Policy",
+            "default-src 'self'; img-src 'self' blob:; style-src 'self' 'unsafe-inline'",
+        ))
+}

@@ -1,0 +1,649 @@
+//! The viewer page in a real headless Chromium (Debian's `chromium`, driven over the DevTools
+//! protocol by `headless_chrome`): synthetic panoramas whose colours encode direction show,
+//! at a pixel of the screenshot, the colour of that pixel's view direction; an ODS pair's
+//! anaglyph mixes the eyes as `omnicloud render --anaglyph` does; with a stub WebXR runtime,
+//! "Enter VR" asks for an `immersive-vr` session and draws each eye from its own half.
+//!
+//! Chromium runs with `--headless --no-sandbox --disable-gpu --no-first-run
+//! --disable-background-networking --disable-component-update --disable-sync` and a fresh
+//! `--user-data-dir`; WebGL2 comes from SwiftShader (`--use-angle=swiftshader
+//! --enable-unsafe-swiftshader`). Without Chromium the tests skip with a notice, and fail when
+//! `OMNICLOUD_REQUIRE_BROWSER=1` (CI).
+#![cfg(feature = "web")]
+
+use std::f64::consts::PI;
+use std::ffi::OsStr;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use headless_chrome::protocol::cdp::Input;
+use headless_chrome::protocol::cdp::Page;
+use headless_chrome::{Browser, LaunchOptions, Tab};
+use image::{Rgb, RgbImage, RgbaImage};
+use omnicloud::output::AnaglyphMethod;
+use omnicloud::output::anaglyph::anaglyph_pixel;
+use omnicloud::web::{Panorama, Running, ViewServer};
+
+/// The browser window's size; the page gets what the window leaves of it (measured).
+const WINDOW: (u32, u32) = (800, 600);
+
+/// Largest difference allowed per channel between a screenshot pixel and the colour its view
+/// direction has in the panorama (a continuous code; the page shows it filtered between
+/// whole codes and rounded to a byte). Measured worst: 0.50. One code is 1.4° of longitude
+/// and 0.7° of latitude.
+const TOLERANCE: f64 = 1.0;
+
+/// The same for the anaglyph, whose red is the left eye's luminance re-encoded to sRGB, which
+/// turns a half-code difference in green into up to one in red. Measured worst: 1.00.
+const ANAGLYPH_TOLERANCE: f64 = 1.5;
+
+fn chromium() -> Option<PathBuf> {
+    let path = std::env::var_os("OMNICLOUD_CHROMIUM")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
+    if path.exists() {
+        return Some(path);
+    }
+    if std::env::var_os("OMNICLOUD_REQUIRE_BROWSER").is_some_and(|v| v == "1") {
+        panic!(
+            "OMNICLOUD_REQUIRE_BROWSER=1 but {} does not exist (apt-get install chromium)",
+            path.display()
+        );
+    }
+    let _ = writeln!(
+        std::io::stderr().lock(),
+        "SKIPPED: browser test needs Chromium at {} (apt-get install chromium, or set \
+         OMNICLOUD_CHROMIUM); set OMNICLOUD_REQUIRE_BROWSER=1 to make this a failure",
+        path.display()
+    );
+    None
+}
+
+/// A headless Chromium with its own empty profile (removed with it).
+struct Chromium {
+    browser: Browser,
+    _profile: tempfile::TempDir,
+}
+
+fn launch(path: PathBuf) -> Chromium {
+    let profile = tempfile::tempdir().unwrap();
+    // Chromium's own WebXR is switched off so the stub runtime is the only one that answers.
+    let features = "--disable-features=TranslateUI,BlinkGenPropertyTrees,WebXR";
+    let options = LaunchOptions {
+        path: Some(path),
+        headless: true,
+        sandbox: false,
+        enable_gpu: false,
+        window_size: Some(WINDOW),
+        user_data_dir: Some(profile.path().to_path_buf()),
+        idle_browser_timeout: Duration::from_secs(120),
+        ignore_default_args: vec![OsStr::new(
+            "--disable-features=TranslateUI,BlinkGenPropertyTrees",
+        )],
+        args: vec![
+            OsStr::new("--disable-component-update"),
+            OsStr::new("--disable-quic"),
+            OsStr::new("--hide-scrollbars"),
+            OsStr::new("--use-angle=swiftshader"),
+            OsStr::new("--enable-unsafe-swiftshader"),
+            OsStr::new(features),
+        ],
+        ..LaunchOptions::default()
+    };
+    let browser = Browser::new(options).expect("starting Chromium");
+    Chromium {
+        browser,
+        _profile: profile,
+    }
+}
+
+fn serve(path: &Path) -> Running {
+    ViewServer::bind("127.0.0.1", 0, Panorama::open(path).unwrap())
+        .unwrap()
+        .spawn()
+}
+
+/// Evaluates `expr` (a value or a promise) in the page and returns it as JSON.
+fn js(tab: &Tab, expr: &str) -> serde_json::Value {
+    let wrapped =
+        format!("Promise.resolve({expr}).then((v) => JSON.stringify(v === undefined ? null : v))");
+    let result = tab.evaluate(&wrapped, true).expect("evaluate");
+    match result.value {
+        Some(serde_json::Value::String(s)) => serde_json::from_str(&s).unwrap(),
+        _ => panic!("{expr} failed in the page: {:?}", result.description),
+    }
+}
+
+/// Opens the viewer, optionally after installing `init` before any page script, and waits
+/// until its first frame is drawn.
+fn open_viewer(chromium: &Chromium, url: &str, init: Option<&str>) -> std::sync::Arc<Tab> {
+    let tab = chromium.browser.new_tab().unwrap();
+    tab.set_default_timeout(Duration::from_secs(60));
+    if let Some(source) = init {
+        tab.call_method(Page::AddScriptToEvaluateOnNewDocument {
+            source: source.to_owned(),
+            world_name: None,
+            include_command_line_api: None,
+            run_immediately: None,
+        })
+        .unwrap();
+    }
+    tab.navigate_to(url)
+        .unwrap()
+        .wait_until_navigated()
+        .unwrap();
+    let ready = tab
+        .evaluate("viewer.ready.then(() => 'ok', (e) => 'error: ' + e)", true)
+        .unwrap();
+    assert_eq!(
+        ready.value,
+        Some(serde_json::json!("ok")),
+        "the viewer did not start: {:?}",
+        js(&tab, "viewer.error")
+    );
+    tab
+}
+
+fn screenshot(tab: &Tab) -> RgbaImage {
+    let png = tab
+        .capture_screenshot(Page::CaptureScreenshotFormatOption::Png, None, None, true)
+        .unwrap();
+    image::load_from_memory(&png).unwrap().to_rgba8()
+}
+
+/// The code the synthetic panoramas give a longitude or latitude fraction: 0..=255.
+fn code(fraction: f64) -> f64 {
+    (fraction * 256.0).clamp(0.0, 255.0)
+}
+
+/// A 2:1 image whose pixel (i, j) is (code(u), code(v), blue), u and v its centre's
+/// coordinates (DESIGN.md section 2: u = 0.5 is longitude 0, v = 0 the top row).
+fn direction_image(width: u32, blue: u8, invert: bool) -> RgbImage {
+    let height = width / 2;
+    RgbImage::from_fn(width, height, |i, j| {
+        let u = (f64::from(i) + 0.5) / f64::from(width);
+        let v = (f64::from(j) + 0.5) / f64::from(height);
+        let (r, g) = (code(u).floor() as u8, code(v).floor() as u8);
+        if invert {
+            Rgb([255 - r, 255 - g, blue])
+        } else {
+            Rgb([r, g, blue])
+        }
+    })
+}
+
+/// A view: heading and pitch in degrees, vertical field of view in degrees, over a viewport
+/// (x, y, width, height) of the screenshot, in pixels from its top left.
+#[derive(Clone, Copy, Debug)]
+struct View {
+    yaw: f64,
+    pitch: f64,
+    fov: f64,
+    viewport: (f64, f64, f64, f64),
+}
+
+impl View {
+    /// (u, v) in the panorama of the ray through the centre of screenshot pixel (px, py).
+    /// Camera space as in DESIGN.md section 8: right, forward, up; pitch turns forward
+    /// towards up, then yaw turns it to the right.
+    fn uv(&self, px: u32, py: u32) -> (f64, f64) {
+        let (x0, y0, w, h) = self.viewport;
+        let ndc_x = (f64::from(px) + 0.5 - x0) / w * 2.0 - 1.0;
+        let ndc_y = 1.0 - (f64::from(py) + 0.5 - y0) / h * 2.0;
+        let f = (self.fov.to_radians() / 2.0).tan();
+        let (right, forward, up) = (ndc_x * (w / h) * f, 1.0, ndc_y * f);
+        let (sp, cp) = self.pitch.to_radians().sin_cos();
+        let (forward, up) = (forward * cp - up * sp, forward * sp + up * cp);
+        let (sy, cy) = self.yaw.to_radians().sin_cos();
+        let (right, forward) = (right * cy + forward * sy, forward * cy - right * sy);
+        let norm = (right * right + forward * forward + up * up).sqrt();
+        let lon = right.atan2(forward);
+        let lat = (up / norm).asin();
+        (lon / (2.0 * PI) + 0.5, 0.5 - lat / PI)
+    }
+
+    /// Points to check: the viewport's centre and four points halfway to its corners.
+    fn probes(&self) -> Vec<(u32, u32)> {
+        let (x0, y0, w, h) = self.viewport;
+        [
+            (0.5, 0.5),
+            (0.25, 0.25),
+            (0.75, 0.25),
+            (0.25, 0.75),
+            (0.75, 0.75),
+        ]
+        .iter()
+        .map(|(a, b)| ((x0 + a * w) as u32, (y0 + b * h) as u32))
+        .collect()
+    }
+}
+
+/// Worst channel difference between the screenshot and `expected(u, v)` over the probes.
+fn worst_difference(
+    shot: &RgbaImage,
+    view: &View,
+    expected: impl Fn(f64, f64) -> [f64; 3],
+) -> (f64, String) {
+    let mut worst = (0.0, String::new());
+    for (px, py) in view.probes() {
+        let (u, v) = view.uv(px, py);
+        let want = expected(u, v);
+        let got = shot.get_pixel(px, py).0;
+        for c in 0..3 {
+            let d = (f64::from(got[c]) - want[c]).abs();
+            if d >= worst.0 {
+                worst = (
+                    d,
+                    format!("pixel ({px}, {py}) of {view:?}: got {got:?}, expected {want:.1?}"),
+                );
+            }
+        }
+    }
+    worst
+}
+
+fn set_view(tab: &Tab, yaw: f64, pitch: f64, fov: f64) {
+    js(tab, &format!("viewer.setView({yaw}, {pitch}, {fov})"));
+}
+
+/// The page's size in pixels; checks that a CSS pixel is a screenshot pixel.
+fn page_size(tab: &Tab) -> (u32, u32) {
+    let size = js(tab, "[innerWidth, innerHeight, devicePixelRatio]");
+    assert_eq!(size[2], 1, "device pixel ratio");
+    let (w, h) = (size[0].as_u64().unwrap(), size[1].as_u64().unwrap());
+    assert!(w >= 400 && h >= 300, "page of {w}x{h}");
+    (w as u32, h as u32)
+}
+
+fn full_page(tab: &Tab, yaw: f64, pitch: f64, fov: f64) -> View {
+    let (w, h) = page_size(tab);
+    View {
+        yaw,
+        pitch,
+        fov,
+        viewport: (0.0, 0.0, f64::from(w), f64::from(h)),
+    }
+}
+
+/// Expected colour of the mono direction image: codes of u and v, blue as written.
+fn mono_colour(blue: f64) -> impl Fn(f64, f64) -> [f64; 3] {
+    move |u, v| [code(u) - 0.5, code(v) - 0.5, blue]
+}
+
+#[test]
+fn each_pixel_shows_the_colour_of_its_view_direction() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("directions.png");
+    direction_image(2048, 128, false).save(&file).unwrap();
+    let server = serve(&file);
+    let chromium = launch(path);
+    let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
+
+    let opened = js(&tab, "viewer.view()");
+    assert_eq!(opened, serde_json::json!({"yaw": 0, "pitch": 0, "fov": 90}));
+
+    // The page opens on the heading: the image centre.
+    let shot = screenshot(&tab);
+    let (worst, at) = worst_difference(&shot, &full_page(&tab, 0.0, 0.0, 90.0), mono_colour(128.0));
+    assert!(worst <= TOLERANCE, "opening view: {worst} at {at}");
+
+    for (yaw, pitch, fov) in [
+        (35.0, 20.0, 60.0),
+        (-110.0, -30.0, 75.0),
+        (120.0, 45.0, 50.0),
+    ] {
+        set_view(&tab, yaw, pitch, fov);
+        let shot = screenshot(&tab);
+        let view = full_page(&tab, yaw, pitch, fov);
+        let (worst, at) = worst_difference(&shot, &view, mono_colour(128.0));
+        assert!(worst <= TOLERANCE, "{worst} at {at}");
+    }
+}
+
+/// A mouse event at (x, y); `held`: the left button is down during (or, for a press, after)
+/// the event.
+fn mouse(tab: &Tab, kind: Input::DispatchMouseEventTypeOption, x: f64, y: f64, held: bool) {
+    use Input::DispatchMouseEventTypeOption as M;
+    let button = match kind {
+        M::MousePressed | M::MouseReleased => Input::MouseButton::Left,
+        _ => Input::MouseButton::None,
+    };
+    tab.call_method(Input::DispatchMouseEvent {
+        Type: kind,
+        x,
+        y,
+        modifiers: None,
+        timestamp: None,
+        button: Some(button),
+        buttons: Some(u32::from(held)),
+        click_count: Some(1),
+        force: None,
+        tangential_pressure: None,
+        tilt_x: None,
+        tilt_y: None,
+        twist: None,
+        delta_x: None,
+        delta_y: None,
+        pointer_Type: None,
+    })
+    .unwrap();
+}
+
+#[test]
+fn dragging_grabs_the_image_and_the_wheel_zooms() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("directions.png");
+    direction_image(2048, 64, false).save(&file).unwrap();
+    let server = serve(&file);
+    let chromium = launch(path);
+    let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
+
+    use Input::DispatchMouseEventTypeOption as M;
+    let (w, h) = page_size(&tab);
+    let (x, y) = (f64::from(w / 2), f64::from(h / 2));
+    mouse(&tab, M::MouseMoved, x, y, false);
+    mouse(&tab, M::MousePressed, x, y, true);
+    for step in 1..=10 {
+        let t = f64::from(step) / 10.0;
+        mouse(&tab, M::MouseMoved, x - 100.0 * t, y - 50.0 * t, true);
+    }
+    mouse(&tab, M::MouseReleased, x - 100.0, y - 50.0, false);
+    // 100 px left and 50 px up at 2 tan(45°)/h rad per pixel: the image follows the
+    // pointer, so the view turns right and down (by 25.1° and 12.5° on a 457 px page).
+    let per_pixel = (2.0 / f64::from(h)).to_degrees();
+    let view = js(&tab, "viewer.view()");
+    let (yaw, pitch) = (
+        view["yaw"].as_f64().unwrap(),
+        view["pitch"].as_f64().unwrap(),
+    );
+    assert!((yaw - 100.0 * per_pixel).abs() < 0.01, "yaw {yaw}");
+    assert!((pitch + 50.0 * per_pixel).abs() < 0.01, "pitch {pitch}");
+    js(
+        &tab,
+        "viewer.setView(viewer.view().yaw, viewer.view().pitch)",
+    );
+    let shot = screenshot(&tab);
+    let (worst, at) =
+        worst_difference(&shot, &full_page(&tab, yaw, pitch, 90.0), mono_colour(64.0));
+    assert!(worst <= TOLERANCE, "after the drag: {worst} at {at}");
+
+    tab.call_method(Input::DispatchMouseEvent {
+        Type: M::MouseWheel,
+        x,
+        y,
+        modifiers: None,
+        timestamp: None,
+        button: None,
+        buttons: None,
+        click_count: None,
+        force: None,
+        tangential_pressure: None,
+        tilt_x: None,
+        tilt_y: None,
+        twist: None,
+        delta_x: Some(0.0),
+        delta_y: Some(100.0),
+        pointer_Type: None,
+    })
+    .unwrap();
+    // Scrolling down widens the view by e^(0.001 * deltaY).
+    let fov = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 100)).then(() => viewer.view().fov)",
+    )
+    .as_f64()
+    .unwrap();
+    assert!((fov - 90.0 * 0.1_f64.exp()).abs() < 0.01, "fov {fov}");
+}
+
+/// An ODS pair of direction images: left eye (top) as [`direction_image`] with blue 32, right
+/// eye (bottom) with red and green inverted and blue 224.
+fn ods_image(width: u32) -> RgbImage {
+    let left = direction_image(width, 32, false);
+    let right = direction_image(width, 224, true);
+    let mut pair = RgbImage::new(width, width);
+    image::imageops::replace(&mut pair, &left, 0, 0);
+    image::imageops::replace(&mut pair, &right, 0, i64::from(width / 2));
+    pair
+}
+
+fn left_colour(u: f64, v: f64) -> [f64; 3] {
+    [code(u) - 0.5, code(v) - 0.5, 32.0]
+}
+
+fn right_colour(u: f64, v: f64) -> [f64; 3] {
+    [255.5 - code(u), 255.5 - code(v), 224.0]
+}
+
+/// The project's own half-colour anaglyph of the two eyes' colours.
+fn anaglyph_colour(u: f64, v: f64) -> [f64; 3] {
+    let byte = |c: [f64; 3]| c.map(|x| x.round().clamp(0.0, 255.0) as u8);
+    let [lr, lg, lb] = byte(left_colour(u, v));
+    let [rr, rg, rb] = byte(right_colour(u, v));
+    anaglyph_pixel(
+        [lr, lg, lb, 255],
+        [rr, rg, rb, 255],
+        AnaglyphMethod::HalfColor,
+    )
+    .map(f64::from)
+}
+
+#[test]
+fn an_ods_pair_shows_each_eye_and_a_red_cyan_anaglyph() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("pair.png");
+    ods_image(2048).save(&file).unwrap();
+    let server = serve(&file);
+    let chromium = launch(path);
+    let tab = open_viewer(
+        &chromium,
+        &format!("http://{}/?mode=anaglyph", server.addr()),
+        None,
+    );
+    assert_eq!(js(&tab, "viewer.mode()"), serde_json::json!("anaglyph"));
+    assert_eq!(
+        js(&tab, "document.getElementById('mode-box').hidden"),
+        serde_json::json!(false)
+    );
+
+    let view = full_page(&tab, 25.0, 10.0, 70.0);
+    set_view(&tab, view.yaw, view.pitch, view.fov);
+    let shot = screenshot(&tab);
+    let (worst, at) = worst_difference(&shot, &view, anaglyph_colour);
+    assert!(worst <= ANAGLYPH_TOLERANCE, "anaglyph: {worst} at {at}");
+    // Red comes from the left eye alone, green and blue from the right eye alone.
+    let (w, h) = page_size(&tab);
+    let c = shot.get_pixel(w / 2, h / 2).0;
+    assert!(c[2] > 200, "blue is the right eye's 224: {c:?}");
+
+    for (mode, expected) in [
+        ("mono", left_colour as fn(f64, f64) -> [f64; 3]),
+        ("left", left_colour),
+        ("right", right_colour),
+    ] {
+        js(&tab, &format!("viewer.setMode('{mode}')"));
+        let shot = screenshot(&tab);
+        let (worst, at) = worst_difference(&shot, &view, expected);
+        assert!(worst <= TOLERANCE, "{mode}: {worst} at {at}");
+    }
+}
+
+/// A WebXR runtime stand-in: one `immersive-vr` session whose two views (left half, right half
+/// of the canvas, 90° vertical field of view) look `HEAD_YAW` degrees right of the start; it
+/// records what the page asks of it in `window.__xr`.
+const XR_STUB: &str = r#"
+(() => {
+  const HEAD_YAW = 25;
+  const log = { supported: [], requested: [], spaces: [], viewports: [], frames: 0, layers: 0 };
+  window.__xr = log;
+  const half = -HEAD_YAW * Math.PI / 360;
+  const orientation = { x: 0, y: Math.sin(half), z: 0, w: Math.cos(half) };
+  function perspective(fovY, aspect, near, far) {
+    const f = 1 / Math.tan(fovY / 2);
+    return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0,
+      0, 0, (far + near) / (near - far), -1, 0, 0, 2 * far * near / (near - far), 0]);
+  }
+  class XRWebGLLayer {
+    constructor(session, gl) {
+      log.layers += 1;
+      this.framebuffer = null;
+      this.framebufferWidth = gl.drawingBufferWidth;
+      this.framebufferHeight = gl.drawingBufferHeight;
+    }
+    getViewport(view) {
+      const w = this.framebufferWidth / 2;
+      const vp = { x: view.eye === 'left' ? 0 : w, y: 0, width: w, height: this.framebufferHeight };
+      log.viewports.push({ eye: view.eye, x: vp.x, y: vp.y, width: vp.width, height: vp.height });
+      return vp;
+    }
+  }
+  window.XRWebGLLayer = XRWebGLLayer;
+  class Session extends EventTarget {
+    constructor() { super(); this.renderState = {}; this.ended = false; }
+    updateRenderState(state) { Object.assign(this.renderState, state); }
+    async requestReferenceSpace(type) { log.spaces.push(type); return { type }; }
+    requestAnimationFrame(callback) {
+      return requestAnimationFrame((time) => {
+        if (this.ended) return;
+        log.frames += 1;
+        const layer = this.renderState.baseLayer;
+        const aspect = layer.framebufferWidth / 2 / layer.framebufferHeight;
+        const view = (eye) => ({ eye, projectionMatrix: perspective(Math.PI / 2, aspect, 0.1, 1000),
+          transform: { orientation } });
+        const frame = { session: this, getViewerPose: () => ({ views: [view('left'), view('right')] }) };
+        callback(time, frame);
+      });
+    }
+    async end() { this.ended = true; this.dispatchEvent(new Event('end')); }
+  }
+  const xr = {
+    async isSessionSupported(mode) { log.supported.push(mode); return mode === 'immersive-vr'; },
+    async requestSession(mode) { log.requested.push(mode); return new Session(); },
+  };
+  Object.defineProperty(Navigator.prototype, 'xr', { get: () => xr, configurable: true });
+  WebGL2RenderingContext.prototype.makeXRCompatible = async function () {};
+})();
+"#;
+
+#[test]
+fn enter_vr_asks_for_immersive_vr_and_draws_each_eye_from_its_half() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("pair.png");
+    ods_image(2048).save(&file).unwrap();
+    let server = serve(&file);
+    let chromium = launch(path);
+    let tab = open_viewer(
+        &chromium,
+        &format!("http://{}/", server.addr()),
+        Some(XR_STUB),
+    );
+    // The headset starts at the page's heading.
+    set_view(&tab, 40.0, 0.0, 90.0);
+    let button = tab.wait_for_element("#enter-vr:not([disabled])").unwrap();
+    button.click().unwrap();
+    let frames = js(
+        &tab,
+        "new Promise((resolve) => { const wait = () => window.__xr.frames >= 3 ? \
+         resolve(window.__xr.frames) : setTimeout(wait, 20); wait(); })",
+    );
+    assert!(frames.as_u64().unwrap() >= 3);
+    let log = js(&tab, "window.__xr");
+    assert_eq!(log["requested"], serde_json::json!(["immersive-vr"]));
+    assert_eq!(log["spaces"], serde_json::json!(["local"]));
+    assert_eq!(log["layers"], 1);
+    let (w, h) = page_size(&tab);
+    let views = js(&tab, "viewer.xrViews");
+    assert_eq!(
+        views,
+        serde_json::json!([
+            {"eye": "left", "viewport": [0, 0, w / 2, h]},
+            {"eye": "right", "viewport": [w / 2, 0, w / 2, h]},
+        ])
+    );
+    assert_eq!(
+        js(&tab, "document.getElementById('enter-vr').textContent"),
+        "Exit VR"
+    );
+
+    // 40° heading + 25° head turn; GL's viewport y counts from the bottom, the same rows here.
+    let eye = |x0: f64| View {
+        yaw: 65.0,
+        pitch: 0.0,
+        fov: 90.0,
+        viewport: (x0, 0.0, f64::from(w / 2), f64::from(h)),
+    };
+    let shot = screenshot(&tab);
+    let (worst, at) = worst_difference(&shot, &eye(0.0), left_colour);
+    assert!(worst <= TOLERANCE, "left eye: {worst} at {at}");
+    let (worst, at) = worst_difference(&shot, &eye(f64::from(w / 2)), right_colour);
+    assert!(worst <= TOLERANCE, "right eye: {worst} at {at}");
+
+    tab.find_element("#enter-vr").unwrap().click().unwrap();
+    assert_eq!(
+        js(&tab, "document.getElementById('enter-vr').textContent"),
+        "Enter VR"
+    );
+}
+
+#[test]
+fn a_tour_folder_steps_and_plays_through_its_frames() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let colours = [[200u8, 30, 30], [30, 200, 30], [30, 30, 200]];
+    for (k, c) in colours.iter().enumerate() {
+        RgbImage::from_pixel(256, 128, Rgb(*c))
+            .save(dir.path().join(format!("frame_{k:06}.png")))
+            .unwrap();
+    }
+    let server = serve(dir.path());
+    let chromium = launch(path);
+    let tab = open_viewer(
+        &chromium,
+        &format!("http://{}/?frame=1", server.addr()),
+        None,
+    );
+    let (w, h) = page_size(&tab);
+    let centre = |tab: &Tab| screenshot(tab).get_pixel(w / 2, h / 2).0;
+    assert_eq!(js(&tab, "viewer.frame()"), 1);
+    assert_eq!(&centre(&tab)[..3], &colours[1]);
+    assert_eq!(
+        js(&tab, "document.getElementById('frame-label').textContent"),
+        "2 / 3"
+    );
+
+    js(&tab, "viewer.setFrame(2)");
+    assert_eq!(&centre(&tab)[..3], &colours[2]);
+    assert_eq!(js(&tab, "document.getElementById('frame').value"), "2");
+
+    // Play steps one frame at a time, from the last to the first; pause holds the frame.
+    tab.find_element("#play").unwrap().click().unwrap();
+    let seen = js(
+        &tab,
+        "new Promise((resolve) => { const seen = []; const poll = () => { \
+         const f = viewer.frame(); if (seen[seen.length - 1] !== f) seen.push(f); \
+         if (seen.length >= 4) resolve(seen); else setTimeout(poll, 5); }; poll(); })",
+    );
+    let seen: Vec<u64> = serde_json::from_value(seen).unwrap();
+    for pair in seen.windows(2) {
+        assert_eq!(
+            pair[1],
+            (pair[0] + 1) % 3,
+            "frames shown in order: {seen:?}"
+        );
+    }
+    tab.find_element("#play").unwrap().click().unwrap();
+    let held = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => viewer.frame())",
+    );
+    let later = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => viewer.frame())",
+    );
+    assert_eq!(held, later, "paused playback still advances");
+}
