@@ -152,11 +152,8 @@ fn percentile_range(values: impl ExactSizeIterator<Item = f32>) -> (f32, f32) {
     let n = values.len();
     let stride = n.div_ceil(100_000).max(1);
     let mut sample: Vec<f32> = values.step_by(stride).filter(|v| v.is_finite()).collect();
-    if sample.is_empty() {
-        return (0.0, 0.0);
-    }
     sample.sort_by(f32::total_cmp);
-    let at = |q: f64| sample[((sample.len() - 1) as f64 * q).round() as usize];
+    let at = |q: f64| crate::compare::percentile(&sample, q).unwrap_or(0.0);
     (at(0.01), at(0.99))
 }
 
