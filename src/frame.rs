@@ -14,6 +14,19 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// A frame from a decoded 8-bit image (alpha is coverage); no depth (`+inf`), as for
+    /// PNG and JPEG files.
+    pub fn from_rgba8(rgba: image::RgbaImage) -> Self {
+        let (width, height) = rgba.dimensions();
+        let color: Vec<[u8; 4]> = rgba.pixels().map(|p| p.0).collect();
+        Frame {
+            width,
+            height,
+            depth: vec![f32::INFINITY; color.len()],
+            color,
+        }
+    }
+
     /// An empty (all background) frame; the background colour is transparent black.
     pub fn new(width: u32, height: u32) -> Self {
         let n = width as usize * height as usize;

@@ -1,32 +1,18 @@
 //! Property tests for the camera/ODS math (DESIGN §2–4): the exact inverse returns every ray
 //! point to the pixel it came from, at every latitude and longitude, for every eye and profile.
 
+mod projection_strategies;
+
 use std::f64::consts::TAU;
 
 use glam::DVec3;
 use omnicloud::projection::{
     Camera, Equirect, Eye, OdsOffset, PoleMerge, PoleMerging, Stereo, View,
 };
+use projection_strategies::profile;
 use proptest::prelude::*;
 
 const WIDTH: u32 = 3840;
-
-fn profile() -> impl Strategy<Value = PoleMerge> {
-    prop_oneof![
-        Just(PoleMerge::Off),
-        Just(PoleMerge::COMFORTABLE),
-        Just(PoleMerge::CYCLES_DEFAULT),
-        (1.0..90.0f64, 0.0..1.0f64, 0.5..4.0f64).prop_map(|(s, f, k)| PoleMerge::Marrinan {
-            start_deg: s,
-            end_deg: s * f,
-            exponent: k,
-        }),
-        (0.0..89.0f64, 0.01..1.0f64).prop_map(|(from, f)| PoleMerge::Cycles {
-            from_deg: from,
-            to_deg: from + (90.0 - from) * f,
-        }),
-    ]
-}
 
 /// Image rows: anywhere, or within 1° of either pole (1° is 10.67 rows at 1920 rows).
 fn row() -> impl Strategy<Value = f64> {

@@ -3,13 +3,16 @@
 //! intersection on a small image. Spheres anywhere, near the poles, straddling the seam and
 //! next to the eye; mono and both eyes, with per-pole merge profiles.
 
+mod projection_strategies;
+
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DVec2, DVec3};
 use omnicloud::projection::{
-    Camera, Equirect, Eye, OdsOffset, PoleMerge, PoleMerging, Rect, Stereo, View, sphere_bounds,
+    Camera, Equirect, Eye, OdsOffset, PoleMerging, Rect, Stereo, View, sphere_bounds,
 };
 use omnicloud::raytrace::sphere;
+use projection_strategies::profile;
 use proptest::prelude::*;
 
 /// 192 x 96: 1.9° per pixel, small enough for thousands of whole-image scans per second.
@@ -18,23 +21,6 @@ const WIDTH: u32 = 192;
 /// Slack (radians) for pixel centres on the box's edge: the box and the rays are both f64,
 /// so anything beyond rounding is a real miss.
 const EDGE: f64 = 1e-9;
-
-fn profile() -> impl Strategy<Value = PoleMerge> {
-    prop_oneof![
-        Just(PoleMerge::Off),
-        Just(PoleMerge::COMFORTABLE),
-        Just(PoleMerge::CYCLES_DEFAULT),
-        (1.0..90.0f64, 0.0..1.0f64, 0.5..4.0f64).prop_map(|(s, f, k)| PoleMerge::Marrinan {
-            start_deg: s,
-            end_deg: s * f,
-            exponent: k,
-        }),
-        (0.0..89.0f64, 0.01..1.0f64).prop_map(|(from, f)| PoleMerge::Cycles {
-            from_deg: from,
-            to_deg: from + (90.0 - from) * f,
-        }),
-    ]
-}
 
 /// Mono, or either eye with independent north and south profiles and an ipd from 3 cm to
 /// 30 cm (wide rigs make the offset term large at this resolution).

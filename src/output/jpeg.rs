@@ -240,14 +240,7 @@ fn decode(bytes: &[u8], path: &Path) -> Result<Frame, OutputError> {
     let rgba = image::load_from_memory_with_format(bytes, image::ImageFormat::Jpeg)
         .map_err(jpeg_error(path))?
         .into_rgba8();
-    let (width, height) = rgba.dimensions();
-    let color: Vec<[u8; 4]> = rgba.pixels().map(|p| p.0).collect();
-    Ok(Frame {
-        width,
-        height,
-        depth: vec![f32::INFINITY; color.len()],
-        color,
-    })
+    Ok(Frame::from_rgba8(rgba))
 }
 
 /// Reads a VR photo written by [`encode_vr_jpeg`] (or any with `GImage:Data` in extended

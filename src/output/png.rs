@@ -74,14 +74,7 @@ pub fn read_png(path: &Path) -> Result<Frame, OutputError> {
         .decode()
         .map_err(png_err)?
         .into_rgba8();
-    let (width, height) = rgba.dimensions();
-    let color: Vec<[u8; 4]> = rgba.pixels().map(|p| p.0).collect();
-    Ok(Frame {
-        width,
-        height,
-        depth: vec![f32::INFINITY; color.len()],
-        color,
-    })
+    Ok(Frame::from_rgba8(rgba))
 }
 
 /// Writes an 8-bit RGB or RGBA buffer (an anaglyph, a heatmap) as a PNG, atomically.
