@@ -5,8 +5,8 @@
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_scene};
-use omnicloud::prepare::placement;
 use omnicloud::prepare::radius::{RadiusChoice, auto_radius};
+use omnicloud::prepare::{PrepareOptions, placement};
 use omnicloud::render::{ColorMode, base_colors};
 use omnicloud::rng::SplitMix64;
 use omnicloud::scene::{Radii, Scene};
@@ -300,7 +300,10 @@ fn a_surveyed_plan_agrees_with_the_in_core_path() {
 
     // A fixed radius is kept; the stream reads every point once.
     let fixed = PlanOptions {
-        radius: Some(RadiusChoice::Fixed(0.07)),
+        prepare: PrepareOptions {
+            radius: Some(RadiusChoice::Fixed(0.07)),
+            ..options.prepare
+        },
         ..options
     };
     let planned = plan(&laz_path, &fixed, &ProgressBar::hidden()).unwrap();

@@ -8,6 +8,7 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::output::LinearImage;
+use omnicloud::prepare::PrepareOptions;
 use omnicloud::prepare::radius::RadiusChoice;
 use omnicloud::projection::Camera;
 use omnicloud::render::{ColorMode, RenderSettings};
@@ -80,11 +81,13 @@ fn a_file_larger_than_the_survey_streams_exactly_like_the_in_core_render() {
     let camera = omnicloud::synthetic::GROUND_CORNER + DVec3::new(1000.0, 1000.0, 1.7);
     let radius = omnicloud::synthetic::ground_radius(points);
     let options = PlanOptions {
-        camera: Some(camera),
-        radius: Some(RadiusChoice::Fixed(radius)),
+        prepare: PrepareOptions {
+            camera: Some(camera),
+            radius: Some(RadiusChoice::Fixed(radius)),
+            ..PrepareOptions::default()
+        },
         color: ColorMode::Rgb,
         survey_points: 20_000,
-        ..PlanOptions::default()
     };
     let plan = plan(&file, &options, &ProgressBar::hidden()).unwrap();
     assert!(plan.whole.is_none(), "the survey must sample, not read all");

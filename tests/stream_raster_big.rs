@@ -6,6 +6,7 @@ mod raster_common;
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::Rendered;
+use omnicloud::prepare::PrepareOptions;
 use omnicloud::prepare::radius::RadiusChoice;
 use omnicloud::projection::{Camera, Equirect};
 use omnicloud::render::{ColorMode, RenderSettings};
@@ -31,8 +32,11 @@ fn twenty_million_points_stream_through_the_gpu_under_the_memory_cap() {
     let camera = omnicloud::synthetic::GROUND_CORNER + DVec3::new(1000.0, 1000.0, 1.7);
     let radius = omnicloud::synthetic::ground_radius(points);
     let options = PlanOptions {
-        camera: Some(camera),
-        radius: Some(RadiusChoice::Fixed(radius)),
+        prepare: PrepareOptions {
+            camera: Some(camera),
+            radius: Some(RadiusChoice::Fixed(radius)),
+            ..PrepareOptions::default()
+        },
         color: ColorMode::Rgb,
         ..PlanOptions::default()
     };

@@ -61,9 +61,7 @@ pub(super) fn rasterize(
 
     let started = Instant::now();
     let options = PlanOptions {
-        camera: args.view.camera,
-        radius: args.view.radius,
-        up: args.view.up,
+        prepare: args.view.prepare_options(),
         color: args.color,
         ..PlanOptions::default()
     };

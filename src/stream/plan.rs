@@ -12,9 +12,7 @@
 
 use super::StreamError;
 use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
-use crate::prepare::{
-    PrepareError, PrepareOptions, Prepared, RadiusChoice, placement, prepare, radius,
-};
+use crate::prepare::{PrepareError, PrepareOptions, Prepared, placement, prepare, radius};
 use crate::render::{ColorMode, ColorRule};
 use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
 use glam::DVec3;
@@ -37,12 +35,8 @@ const READ_POINTS: usize = 65_536;
 /// What a plan may be told; the rest is decided from the file.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanOptions {
-    /// Camera world position (file coordinates); `None` = automatic.
-    pub camera: Option<DVec3>,
-    /// Sphere radius; `None` = the file's per-point radii when it has them, else auto.
-    pub radius: Option<RadiusChoice>,
-    /// Up axis of the file.
-    pub up: Up,
+    /// Camera, up axis and radius rule, as the in-core [`prepare`] takes them.
+    pub prepare: PrepareOptions,
     /// Colour mode, resolved on the survey.
     pub color: ColorMode,
     /// Points the survey reads at most; files this small are read whole.
@@ -52,9 +46,7 @@ pub struct PlanOptions {
 impl Default for PlanOptions {
     fn default() -> Self {
         PlanOptions {
-            camera: None,
-            radius: None,
-            up: Up::Z,
+            prepare: PrepareOptions::default(),
             color: ColorMode::Auto,
             survey_points: SURVEY_POINTS,
         }
@@ -131,22 +123,17 @@ fn plan_whole(
     options: &PlanOptions,
     progress: &ProgressBar,
 ) -> Result<StreamPlan, StreamError> {
-    let prepare_options = PrepareOptions {
-        camera: options.camera,
-        up: options.up,
-        radius: options.radius,
-    };
     let Prepared {
         scene,
         camera_world,
         radii,
         report,
-    } = prepare(path, &prepare_options, progress)?;
+    } = prepare(path, &options.prepare, progress)?;
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
         declared,
-        up: options.up,
+        up: options.prepare.up,
         camera: camera_world,
         radius: radii.radius,
         keep_file_radii: radii.keep_file_radii,
@@ -268,7 +255,7 @@ fn plan_sampled(
 ) -> Result<StreamPlan, StreamError> {
     let info = reader.info().clone();
     let declared = info.point_count;
-    let up = options.up;
+    let up = options.prepare.up;
     let blocks = survey_blocks(declared, options.survey_points);
     progress.set_length(blocks.iter().map(|b| b.1).sum());
     let sample = survey(path, reader, &blocks, up, progress, true)?;
@@ -331,7 +318,7 @@ fn plan_sampled(
             classification: sample.classification,
         },
     };
-    let camera = match options.camera {
+    let camera = match options.prepare.camera {
         Some(c) => c,
         None => {
             let centre = ((extent_lo + extent_hi) * 0.5 - origin)
@@ -347,7 +334,7 @@ fn plan_sampled(
         }
     };
     scene.recenter(camera);
-    let radii = radius::apply_choice(&mut scene, options.radius);
+    let radii = radius::apply_choice(&mut scene, options.prepare.radius);
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
@@ -367,6 +354,7 @@ fn plan_sampled(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::prepare::RadiusChoice;
     use crate::render::base_colors;
 
     fn shared(rel: &str) -> PathBuf {
@@ -429,23 +417,18 @@ mod tests {
                 let (lo, hi) = io::open(&path).unwrap().info().bounds.unwrap();
                 (lo + hi) * 0.5 + DVec3::new(0.3, -0.2, 1.0)
             });
-            let options = PlanOptions {
+            let prepare_options = PrepareOptions {
                 camera,
+                up: Up::Z,
                 radius,
+            };
+            let options = PlanOptions {
+                prepare: prepare_options,
                 color,
                 ..PlanOptions::default()
             };
             let plan = plan(&path, &options, &ProgressBar::hidden()).unwrap();
-            let core = prepare(
-                &path,
-                &PrepareOptions {
-                    camera,
-                    up: Up::Z,
-                    radius,
-                },
-                &ProgressBar::hidden(),
-            )
-            .unwrap();
+            let core = prepare(&path, &prepare_options, &ProgressBar::hidden()).unwrap();
             let name = path.display();
             assert_eq!(plan.camera, core.camera_world, "{name}");
             let whole = plan.whole.as_ref().expect("a small file is read whole");
