@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use crate::Rendered;
 use crate::memory;
 use crate::prepare::subsample::{self, Subsample};
-use crate::raster::{ChunkedFrame, Rasterizer};
+use crate::raster::{CacheStatus, ChunkedFrame, Rasterizer};
 use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
@@ -97,8 +97,17 @@ pub(super) fn rasterize(
 
     // GPU buffers no larger than the file needs.
     let chunk_points = chunk_points.min(plan.declared.max(1) as usize);
+    let setup = Instant::now();
     let rasterizer = Rasterizer::new()?;
     let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;
+    match rasterizer.pipeline_cache() {
+        CacheStatus::Ignored { .. } => say(format!("warning: {}", rasterizer.pipeline_cache())),
+        status => say(format!(
+            "GPU set up in {:.2?}: {} ({status})",
+            setup.elapsed(),
+            rasterizer.adapter_name()
+        )),
+    }
     let mut sink = RasterSink {
         frame,
         subsample: args.subsample,
@@ -112,10 +121,9 @@ pub(super) fn rasterize(
     let drawn = sink.frame.points();
     let (rendered, stats, _) = sink.frame.finish()?;
     say(format!(
-        "streamed {} points in chunks of {chunk_points} ({:.2} M points/s); {stats} ({})",
+        "streamed {} points in chunks of {chunk_points} ({:.2} M points/s); {stats}",
         report.read,
         report.points_per_second() / 1e6,
-        rasterizer.adapter_name()
     ));
     if let Some(how) = args.subsample {
         say(format!(
