@@ -54,3 +54,13 @@ mod tests {
         assert_eq!(degrees("-30").unwrap(), -30.0);
     }
 }
+
+/// A positive, finite distance in metres.
+pub fn distance(s: &str) -> Result<f64, String> {
+    let d = finite(s, "distance in metres")?;
+    if d > 0.0 {
+        Ok(d)
+    } else {
+        Err(format!("the distance must be above 0 m, got {d}"))
+    }
+}

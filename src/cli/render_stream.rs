@@ -66,7 +66,7 @@ pub(super) fn rasterize(
         ..PlanOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "surveying");
-    let plan = stream::plan(&args.file, &options, &pb)?;
+    let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
     pb.finish_and_clear();
     if plan.dropped > 0 {
         say(format!(
@@ -77,7 +77,7 @@ pub(super) fn rasterize(
     }
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
-        args.file.display(),
+        args.inputs_name(),
         plan.declared,
         if plan.keep_file_radii {
             "per point".to_string()
@@ -107,8 +107,9 @@ pub(super) fn rasterize(
     };
     let pb = progress::bar(args.quiet, plan.declared, "rasterizing");
     let report = stream::stream_file(&plan, chunk_points, &mut sink, &pb)
-        .with_context(|| format!("rendering {}", args.file.display()))?;
+        .with_context(|| format!("rendering {}", args.inputs_name()))?;
     pb.finish_and_clear();
+    super::render::say_filtered(args, &report.filtered, report.drawn, say);
     let drawn = sink.frame.points();
     let (rendered, stats, _) = sink.frame.finish()?;
     say(format!(
