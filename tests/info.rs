@@ -81,7 +81,10 @@ fn json_of_every_shared_file_gives_the_header_count_and_bounds() {
                 };
                 assert!(near(xyz(&v["bounds"]["min"]), lo), "{name}: {lo:?}");
                 assert!(near(xyz(&v["bounds"]["max"]), hi), "{name}: {hi:?}");
-                assert!(v["scale"].is_array() && v["point_format"].is_u64(), "{name}");
+                assert!(
+                    v["scale"].is_array() && v["point_format"].is_u64(),
+                    "{name}"
+                );
             }
             None => assert!(v["bounds"].is_null(), "{name}"),
         }
@@ -99,7 +102,10 @@ fn the_sample_shows_its_crs_and_stats() {
         text.contains("crs:           NAD_1983_HARN_Lambert_Conformal_Conic"),
         "{text}"
     );
-    assert!(!text.contains("classes:"), "no point pass without --stats: {text}");
+    assert!(
+        !text.contains("classes:"),
+        "no point pass without --stats: {text}"
+    );
 
     let out = omnicloud(&["info", "--stats", "--json", autzen]);
     assert!(out.status.success(), "{out:?}");
@@ -197,7 +203,9 @@ fn header_mode_reads_no_point_and_stats_report_truncation() {
     assert!(out.status.success(), "{out:?}");
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("points:        1,065 declared, but the file holds only 581 records: truncated"),
+        text.contains(
+            "points:        1,065 declared, but the file holds only 581 records: truncated"
+        ),
         "{text}"
     );
     let v = json_of(&omnicloud(&["info", "--json", name]));
@@ -216,8 +224,8 @@ fn header_mode_reads_no_point_and_stats_report_truncation() {
     );
 
     // A LAZ file cut in half: its header is still read; the point pass says what broke.
-    let whole = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz"))
-        .unwrap();
+    let whole =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")).unwrap();
     let cut = dir.path().join("cut.laz");
     std::fs::write(&cut, &whole[..whole.len() / 2]).unwrap();
     let name = cut.to_str().unwrap();

@@ -82,8 +82,7 @@ fn stats(file: &Path, info: &FileInfo, quiet: bool) -> Result<(PointStats, Optio
         survey_blocks(declared, SURVEY_POINTS)
     };
     let pb = progress::bar(quiet, declared, "reading");
-    let (stats, sample) = io::point_stats(file, &blocks, &pb)
-        .context("--stats")?;
+    let (stats, sample) = io::point_stats(file, &blocks, &pb).context("--stats")?;
     pb.finish_and_clear();
     let origin = sample.first().copied().unwrap_or(DVec3::ZERO);
     let positions = sample.iter().map(|p| (*p - origin).as_vec3()).collect();
