@@ -22,9 +22,12 @@ fn json_of(out: &Output) -> Value {
     serde_json::from_str(text.trim()).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
 
+/// `(min, max)` corners.
+type Corners = ([f64; 3], [f64; 3]);
+
 /// `(declared points, header bounds)` read independently of omnicloud: the `las` crate for
 /// LAS/LAZ, the `element vertex N` line for PLY (which has no bounds).
-fn header_truth(path: &Path) -> (u64, Option<([f64; 3], [f64; 3])>) {
+fn header_truth(path: &Path) -> (u64, Option<Corners>) {
     if path.extension().is_some_and(|e| e == "ply") {
         let bytes = std::fs::read(path).unwrap();
         let text = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]).into_owned();

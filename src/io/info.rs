@@ -411,7 +411,10 @@ impl fmt::Display for ColorDepth {
 /// A header number to 12 significant digits, trailing zeros dropped: scales are stored in
 /// binary, so 0.000001 reads back as 0.0000010000000000000002.
 fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !v.is_finite() {
         return v.to_string();
     }
     let decimals = (11 - v.abs().log10().floor() as i32).clamp(0, 24) as usize;
@@ -681,6 +684,7 @@ mod tests {
         assert_eq!(short(637_000.0), "637000");
         assert_eq!(short(-12.5), "-12.5");
         assert_eq!(short(0.0), "0");
+        assert_eq!(short(-0.0), "0");
     }
 
     #[test]

@@ -116,16 +116,15 @@ fn checked_raw_header(
             minor,
         });
     }
-    if check_points {
-        if let Some((declared, available)) = records_in_file(&raw, file_len)
-            && declared > available
-        {
-            return Err(LoadError::PointCountExceedsFile {
-                path: path.to_path_buf(),
-                declared,
-                available,
-            });
-        }
+    if check_points
+        && let Some((declared, available)) = records_in_file(&raw, file_len)
+        && declared > available
+    {
+        return Err(LoadError::PointCountExceedsFile {
+            path: path.to_path_buf(),
+            declared,
+            available,
+        });
     }
     if let Some(evlr) = raw.evlr {
         check_evlr(path, read, file_len, evlr.start_of_first_evlr)?;
