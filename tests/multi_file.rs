@@ -98,6 +98,37 @@ fn two_tiles_render_as_the_merged_file_bit_for_bit() {
         assert_eq!(together.report.points_read, 110_000);
     }
 
+    // A crop inside the west tile: the east tile is not read, its points count as cropped.
+    let west_only = PrepareOptions {
+        filter: omnicloud::prepare::PointFilter {
+            crop: Some("636100,849000,636400,849300".parse().unwrap()),
+            ..Default::default()
+        },
+        ..PrepareOptions::default()
+    };
+    let together = prepare_files(&[west.clone(), east.clone()], &west_only, &hidden).unwrap();
+    let alone = prepare(&merged, &west_only, &hidden).unwrap();
+    assert_eq!(together.filtered.files_skipped, 1);
+    assert_eq!(together.filtered.crop, alone.filtered.crop);
+    assert_eq!(together.scene.len(), alone.scene.len());
+    let west_points = las::Reader::from_path(&west)
+        .unwrap()
+        .header()
+        .number_of_points();
+    assert!(west_points < 110_000);
+    assert_eq!(together.report.points_read, west_points);
+    let plan_options = PlanOptions {
+        prepare: west_only,
+        survey_points: 20_000,
+        ..PlanOptions::default()
+    };
+    let plan = stream::plan_files(&[west.clone(), east.clone()], &plan_options, &hidden).unwrap();
+    assert_eq!(plan.paths, std::slice::from_ref(&west));
+    let mut sink = Count(0, DVec3::INFINITY, DVec3::NEG_INFINITY);
+    let report = stream::stream_file(&plan, 30_000, &mut sink, &hidden).unwrap();
+    assert_eq!(report.filtered.crop, alone.filtered.crop);
+    assert_eq!(sink.0, alone.scene.len() as u64);
+
     // Rendered through the binary: the same bytes, from the ray tracer and the rasterizer.
     let (w, e, m) = (
         west.to_str().unwrap(),

@@ -179,6 +179,9 @@ pub struct FilterCounts {
     pub returns: u64,
     /// Beyond `--max-distance`.
     pub max_distance: u64,
+    /// Whole files left unread because their header bounds lie outside the crop or beyond
+    /// the distance (their points are counted above).
+    pub files_skipped: u64,
 }
 
 impl FilterCounts {
@@ -195,6 +198,7 @@ impl std::ops::AddAssign for FilterCounts {
         self.drop_classes += o.drop_classes;
         self.returns += o.returns;
         self.max_distance += o.max_distance;
+        self.files_skipped += o.files_skipped;
     }
 }
 
@@ -247,9 +251,14 @@ impl fmt::Display for FilterCounts {
         .map(|(name, n)| format!("{name} removed {n}"))
         .collect();
         if parts.is_empty() {
-            f.write_str("no point removed")
+            f.write_str("no point removed")?;
         } else {
-            f.write_str(&parts.join(", "))
+            f.write_str(&parts.join(", "))?;
+        }
+        match self.files_skipped {
+            0 => Ok(()),
+            1 => f.write_str(" (1 file skipped unread)"),
+            n => write!(f, " ({n} files skipped unread)"),
         }
     }
 }
@@ -287,6 +296,45 @@ impl PointFilter {
             ));
         }
         Ok(())
+    }
+
+    /// The counts that skip a whole file, from its header bounds, when every point of it
+    /// lies outside the crop, or (with a given `camera`) beyond the distance; `None` when
+    /// the file must be read (also when its header has no bounds).
+    pub fn skips_file(
+        &self,
+        info: &FileInfo,
+        up: Up,
+        camera: Option<DVec3>,
+    ) -> Option<FilterCounts> {
+        let (lo, hi) = info.bounds?;
+        let (a, b) = (up.to_world(lo), up.to_world(hi));
+        let (lo, hi) = (a.min(b).truncate(), a.max(b).truncate());
+        let skipped = |counts: FilterCounts| {
+            Some(FilterCounts {
+                files_skipped: 1,
+                ..counts
+            })
+        };
+        if let Some(crop) = self.crop {
+            let (clo, chi) = crop.world_rect(up);
+            if hi.cmplt(clo).any() || lo.cmpgt(chi).any() {
+                return skipped(FilterCounts {
+                    crop: info.point_count,
+                    ..FilterCounts::default()
+                });
+            }
+        }
+        if let (Some(m), Some(c)) = (self.max_distance, camera) {
+            let nearest = c.truncate().clamp(lo, hi);
+            if nearest.distance(c.truncate()) > m {
+                return skipped(FilterCounts {
+                    max_distance: info.point_count,
+                    ..FilterCounts::default()
+                });
+            }
+        }
+        None
     }
 
     /// The points of `scene` the filters of `stage` keep, and what each removed. For
@@ -359,6 +407,29 @@ impl PointFilter {
     }
 }
 
+/// The files a preparation must read, and what the skipped ones count for: a file whose
+/// header bounds lie wholly outside the crop (or beyond the distance from a given camera) is
+/// not read ([`PointFilter::skips_file`]). `infos` are the files' headers, in order. With a
+/// single file nothing is skipped: the filters then report on its points as usual.
+pub fn files_to_read(
+    paths: &[PathBuf],
+    infos: &[FileInfo],
+    options: &super::PrepareOptions,
+) -> (Vec<PathBuf>, FilterCounts) {
+    let mut counts = FilterCounts::default();
+    if paths.len() < 2 {
+        return (paths.to_vec(), counts);
+    }
+    let mut read = Vec::with_capacity(paths.len());
+    for (path, info) in paths.iter().zip(infos) {
+        match options.filter.skips_file(info, options.up, options.camera) {
+            Some(c) => counts += c,
+            None => read.push(path.clone()),
+        }
+    }
+    (read, counts)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -424,7 +495,8 @@ mod tests {
                 classes: 1,
                 drop_classes: 1,
                 returns: 1,
-                max_distance: 1
+                max_distance: 1,
+                files_skipped: 0,
             }
         );
         let (all, c) = f.apply(s, Up::Z, Stage::All);

@@ -98,19 +98,27 @@ pub fn prepare_files(
     options: &PrepareOptions,
     progress: &ProgressBar,
 ) -> Result<Prepared, PrepareError> {
+    let mut infos = Vec::with_capacity(paths.len());
     for p in paths {
-        options.filter.check(&crate::io::read_info(p)?)?;
+        let info = crate::io::read_info(p)?;
+        options.filter.check(&info)?;
+        infos.push(info);
+    }
+    let (paths, skipped) = filter::files_to_read(paths, &infos, options);
+    if paths.is_empty() {
+        return Err(FilterError::NothingLeft { counts: skipped }.into());
     }
     let load = LoadOptions {
         origin: options.camera,
         up: options.up,
         ..LoadOptions::default()
     };
-    let (scene, report) = load_files_with_progress(paths, &load, progress)?;
+    let (scene, report) = load_files_with_progress(&paths, &load, progress)?;
     let (mut scene, mut filtered) =
         options
             .filter
             .apply(scene, options.up, filter::Stage::BeforeCamera);
+    filtered += skipped;
     if scene.is_empty() {
         return Err(FilterError::NothingLeft { counts: filtered }.into());
     }

@@ -176,6 +176,7 @@ fn draw_decoded(
     report: &mut StreamReport,
 ) -> Result<(), StreamError> {
     progress.set_length(plan.declared);
+    report.filtered = plan.skipped;
     let worker_failed = |detail: String| StreamError::Worker {
         path: plan.path.clone(),
         detail,

@@ -16,7 +16,7 @@
 
 use super::StreamError;
 use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
-use crate::prepare::filter::Stage;
+use crate::prepare::filter::{Stage, files_to_read};
 use crate::prepare::{
     FilterCounts, FilterError, PointFilter, PrepareError, PrepareOptions, Prepared, placement,
     prepare_files, radius,
@@ -91,9 +91,11 @@ pub struct StreamPlan {
     pub dropped: u64,
     /// The filters, applied to each streamed chunk.
     pub filter: PointFilter,
-    /// Points each filter removed from `whole` (zero when the file is streamed: the stream
-    /// counts them).
+    /// Points each filter removed from `whole`, files skipped included (only the skipped
+    /// files' when the files are streamed: the stream counts the rest).
     pub filtered: FilterCounts,
+    /// What the files skipped unread ([`crate::prepare::filter::files_to_read`]) count for.
+    pub skipped: FilterCounts,
 }
 
 impl StreamPlan {
@@ -146,12 +148,23 @@ pub fn plan_files(
             .map_err(PrepareError::from)?;
         infos.push(info);
     }
-    let declared = infos.iter().map(|i| i.point_count).sum();
-    if declared <= options.survey_points as u64 {
-        plan_whole(paths, declared, options, progress)
-    } else {
-        plan_sampled(paths, &infos, options, progress)
+    let (read, skipped) = files_to_read(paths, &infos, &options.prepare);
+    if read.is_empty() {
+        return Err(PrepareError::from(FilterError::NothingLeft { counts: skipped }).into());
     }
+    let infos: Vec<io::FileInfo> = infos
+        .into_iter()
+        .filter(|i| read.contains(&i.path))
+        .collect();
+    let declared = infos.iter().map(|i| i.point_count).sum();
+    let mut plan = if declared <= options.survey_points as u64 {
+        plan_whole(&read, declared, options, progress)?
+    } else {
+        plan_sampled(&read, &infos, options, progress)?
+    };
+    plan.filtered += skipped;
+    plan.skipped = skipped;
+    Ok(plan)
 }
 
 /// The whole file read as the in-core path reads it.
@@ -184,6 +197,7 @@ fn plan_whole(
         dropped: report.dropped_nonfinite,
         filter: options.prepare.filter,
         filtered,
+        skipped: FilterCounts::default(),
     })
 }
 
@@ -482,6 +496,7 @@ fn plan_sampled(
         dropped: sample.dropped,
         filter,
         filtered: FilterCounts::default(),
+        skipped: FilterCounts::default(),
     })
 }
 
