@@ -428,6 +428,72 @@ mod tests {
     }
 
     #[test]
+    fn render_takes_several_files_and_the_point_filters() {
+        let Command::Render(r) = Cli::try_parse_from([
+            "omnicloud",
+            "render",
+            "a.laz",
+            "b.laz",
+            "c.las",
+            "-o",
+            "x.png",
+            "--classes",
+            "2,6",
+            "--drop-classes",
+            "7,18",
+            "--returns",
+            "LAST",
+            "--crop",
+            "-10,5,20,-5",
+            "--max-distance",
+            "150",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not render")
+        };
+        assert_eq!(
+            r.inputs(),
+            ["a.laz", "b.laz", "c.las"].map(PathBuf::from).to_vec()
+        );
+        assert_eq!(r.inputs_name(), "a.laz (+2 more files)");
+        let f = r.view.prepare_options().filter;
+        assert_eq!(f.classes.map(|c| c.codes()), Some(vec![2, 6]));
+        assert_eq!(f.drop_classes.map(|c| c.codes()), Some(vec![7, 18]));
+        assert_eq!(f.returns, ReturnFilter::Last);
+        let crop = f.crop.unwrap();
+        assert_eq!(
+            (crop.min.x, crop.min.y, crop.max.x, crop.max.y),
+            (-10.0, -5.0, 20.0, 5.0)
+        );
+        assert_eq!(f.max_distance, Some(150.0));
+        for (option, bad, why) in [
+            (
+                "--classes",
+                "2,ground",
+                "'ground' is not a classification code",
+            ),
+            ("--crop", "1,2,3", "four numbers"),
+            ("--max-distance", "0", "above 0 m"),
+        ] {
+            let e =
+                Cli::try_parse_from(["omnicloud", "render", "a.las", "-o", "x.png", option, bad])
+                    .unwrap_err()
+                    .to_string();
+            assert!(e.contains(why), "{option} {bad}: {e}");
+        }
+        let Command::Info(i) =
+            Cli::try_parse_from(["omnicloud", "info", "--stats", "--json", "a.laz", "b.ply"])
+                .unwrap()
+                .command
+        else {
+            panic!("not info")
+        };
+        assert!(i.stats && i.json && i.files.len() == 2);
+    }
+
+    #[test]
     fn bad_values_are_rejected_with_the_reason() {
         let e = Cli::try_parse_from([
             "omnicloud",

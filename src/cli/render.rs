@@ -155,7 +155,7 @@ fn ray_trace(
         &args.view.prepare_options(),
         &ProgressBar::hidden(),
     )?;
-    super::warn_dropped(&args.file, &report, say);
+    super::warn_dropped(Path::new(&args.inputs_name()), &report, say);
     say_filtered(args, &filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {
         let before = scene.len();

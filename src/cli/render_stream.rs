@@ -40,7 +40,7 @@ impl ChunkSink for RasterSink<'_> {
     }
 }
 
-/// Streams `args.file` through the GPU rasterizer under `settings` (camera at the origin of
+/// Streams the input files through the GPU rasterizer under `settings` (camera at the origin of
 /// the streamed chunks).
 pub(super) fn rasterize(
     args: &RenderArgs,
@@ -72,7 +72,7 @@ pub(super) fn rasterize(
         say(format!(
             "warning: dropped {} points with NaN/inf or absurd coordinates from {}",
             plan.dropped,
-            args.file.display()
+            args.inputs_name()
         ));
     }
     say(format!(
