@@ -279,3 +279,30 @@ fn render_says_what_each_filter_removed() {
         "{err}"
     );
 }
+
+#[test]
+fn a_small_crop_of_a_surveyed_file_is_planned_from_its_own_points() {
+    // 100 m x 100 m of the sample: about 1 % of its points, which evenly spaced survey blocks
+    // of a large file would mostly miss.
+    let filter = PointFilter {
+        crop: Some("636550,849150,636650,849250".parse().unwrap()),
+        ..Default::default()
+    };
+    let in_core = prepare(&autzen(), &with(filter, None), &ProgressBar::hidden()).unwrap();
+    let n = in_core.scene.len() as u64;
+    assert!(n > 300 && n < 4_096, "{n}");
+    let options = PlanOptions {
+        prepare: with(filter, None),
+        survey_points: 8_192,
+        ..PlanOptions::default()
+    };
+    let plan = stream::plan(&autzen(), &options, &ProgressBar::hidden()).unwrap();
+    assert!(plan.whole.is_none());
+    // The camera stands in the crop, at the in-core camera's height within a metre.
+    let (c, core) = (plan.camera, in_core.camera_world);
+    assert!(c.x > 636_550.0 && c.x < 636_650.0 && c.y > 849_150.0 && c.y < 849_250.0);
+    assert!((c.z - core.z).abs() < 1.0, "{c} vs {core}");
+    let mut sink = Count(0);
+    let report = stream::stream_file(&plan, 20_000, &mut sink, &ProgressBar::hidden()).unwrap();
+    assert_eq!((sink.0, report.filtered.crop), (n, 110_000 - n));
+}

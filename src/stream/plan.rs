@@ -230,10 +230,20 @@ struct Sample {
 
 impl Sample {
     fn push(&mut self, raw: RawChunk, up: Up) {
+        self.push_where(raw, up, &|_| true);
+    }
+
+    /// [`Sample::push`], keeping only the usable points `inside` accepts (world coordinates).
+    fn push_where(&mut self, raw: RawChunk, up: Up, inside: &dyn Fn(DVec3) -> bool) {
         self.read += raw.positions.len() as u64;
         let world: Vec<DVec3> = raw.positions.iter().map(|p| up.to_world(*p)).collect();
-        let kept: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
-        self.dropped += kept.iter().filter(|k| !**k).count() as u64;
+        let usable: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
+        self.dropped += usable.iter().filter(|k| !**k).count() as u64;
+        let kept: Vec<bool> = world
+            .iter()
+            .zip(&usable)
+            .map(|(p, u)| *u && inside(*p))
+            .collect();
         self.world.extend(masked(&world, &kept));
         match (raw.rgb, &mut self.rgb) {
             (Some(RawRgb::Bits8(c)), Some(RawRgb::Bits8(acc))) => acc.extend(masked(&c, &kept)),
@@ -350,6 +360,30 @@ fn survey(
     Ok(sample)
 }
 
+/// Reads the files in order and keeps the usable points `inside` accepts, up to `budget` of
+/// them: the survey of a region the evenly spaced blocks may miss.
+fn survey_inside(
+    paths: &[PathBuf],
+    up: Up,
+    budget: usize,
+    progress: &ProgressBar,
+    inside: &dyn Fn(DVec3) -> bool,
+) -> Result<Sample, LoadError> {
+    let mut sample = Sample::default();
+    for path in paths {
+        let mut reader = io::open(path)?;
+        progress.inc_length(reader.info().point_count);
+        while let Some(raw) = reader.next_raw(READ_POINTS)? {
+            progress.inc(raw.positions.len() as u64);
+            sample.push_where(raw, up, inside);
+            if sample.world.len() >= budget {
+                return Ok(sample);
+            }
+        }
+    }
+    Ok(sample)
+}
+
 /// Large files planned from their survey blocks.
 fn plan_sampled(
     paths: &[PathBuf],
@@ -372,6 +406,19 @@ fn plan_sampled(
     for (p, blocks) in paths.iter().zip(&blocks) {
         let reader = io::open(p)?;
         sample.append(survey(p, reader, blocks, up, progress, true)?);
+    }
+    // A small crop may miss every survey block: survey the points inside it instead.
+    if let Some(crop) = options.prepare.filter.crop {
+        let inside = sample
+            .world
+            .iter()
+            .filter(|w| crop.contains(**w, up))
+            .count();
+        if inside < MIN_BLOCK_POINTS {
+            sample = survey_inside(paths, up, options.survey_points, progress, &|w| {
+                crop.contains(w, up)
+            })?;
+        }
     }
     sample.drop_partial_attributes();
     if sample.world.is_empty() {
@@ -449,10 +496,11 @@ fn plan_sampled(
         },
     };
     let filter = options.prepare.filter;
-    let (mut scene, _) = filter.apply(scene, up, Stage::BeforeCamera);
+    // Counts on the survey only say why nothing is left; the stream counts the real ones.
+    let (mut scene, sample_counts) = filter.apply(scene, up, Stage::BeforeCamera);
     if scene.is_empty() {
         return Err(PrepareError::from(FilterError::NothingLeft {
-            counts: FilterCounts::default(),
+            counts: sample_counts,
         })
         .into());
     }
@@ -472,12 +520,11 @@ fn plan_sampled(
         }
     };
     scene.recenter(camera);
-    let (mut scene, _) = filter.apply(scene, up, Stage::AfterCamera);
+    let (mut scene, after) = filter.apply(scene, up, Stage::AfterCamera);
     if scene.is_empty() {
-        return Err(PrepareError::from(FilterError::NothingLeft {
-            counts: FilterCounts::default(),
-        })
-        .into());
+        let mut counts = sample_counts;
+        counts += after;
+        return Err(PrepareError::from(FilterError::NothingLeft { counts }).into());
     }
     let radii = radius::apply_choice(&mut scene, options.prepare.radius);
     let color = ColorRule::for_scene(&scene, options.color)?;
