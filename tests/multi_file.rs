@@ -215,3 +215,29 @@ fn a_surveyed_plan_covers_every_tile() {
     // Both tiles were drawn: the streamed extent is the sample's (to the centimetre).
     assert!((sink.1.x - header.min.x).abs() < 0.01 && (sink.2.x - header.max.x).abs() < 0.01);
 }
+
+#[test]
+fn files_in_different_coordinate_systems_are_flagged() {
+    let dir = tempfile::tempdir().unwrap();
+    let simple = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/las/simple.las");
+    let out = omnicloud(&[
+        "render",
+        autzen().to_str().unwrap(),
+        simple.to_str().unwrap(),
+        "-o",
+        dir.path().join("m.png").to_str().unwrap(),
+        "--width",
+        "64",
+        "--renderer",
+        "raytrace",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("warning: the files declare different coordinate systems")
+            && err.contains("NAD_1983_HARN_Lambert_Conformal_Conic")
+            && err.contains("simple.las (none declared)"),
+        "{err}"
+    );
+    assert!(err.contains("111065 points"), "{err}");
+}

@@ -44,6 +44,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
 
     crate::cli::render_guard::install_interrupt_handler();
+    if !args.more_files.is_empty() {
+        warn_mixed_crs(args, &say)?;
+    }
 
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
@@ -97,6 +100,33 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "hint: players such as the Quest's recognise top-bottom stereo from a name \
              ending `_360_TB` (e.g. {})",
             top_bottom_name(&args.output).display()
+        ));
+    }
+    Ok(())
+}
+
+/// Warns when the input files declare different coordinate systems: their coordinates are
+/// used as they are, so tiles in different systems do not line up.
+fn warn_mixed_crs(args: &RenderArgs, say: &impl Fn(String)) -> Result<()> {
+    let mut seen: Vec<(String, PathBuf)> = Vec::new();
+    for path in args.inputs() {
+        let info = crate::io::read_info(&path)?;
+        let crs = match info.las.and_then(|l| l.crs) {
+            Some(c) => c.to_string(),
+            None => "none declared".to_string(),
+        };
+        if !seen.iter().any(|(c, _)| *c == crs) {
+            seen.push((crs, path));
+        }
+    }
+    if seen.len() > 1 {
+        let list: Vec<String> = seen
+            .iter()
+            .map(|(c, p)| format!("{} ({c})", p.display()))
+            .collect();
+        say(format!(
+            "warning: the files declare different coordinate systems, used as they are: {}",
+            list.join("; ")
         ));
     }
     Ok(())

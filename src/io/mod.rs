@@ -4,7 +4,9 @@
 //! [`FileInfo`] and returns a [`PointReader`] whose [`PointReader::chunks`] streams the points
 //! in file coordinates (f64) with memory proportional to the chunk size. [`load_scene`] reads a
 //! whole file into a [`crate::Scene`]: coordinates minus one f64 origin, stored as f32
-//! (DESIGN §1).
+//! (DESIGN §1); [`load_files_with_progress`] reads several into one. [`read_info`] reads a
+//! header without touching the points; [`point_stats`] makes one streamed pass for
+//! `info --stats`.
 
 mod chunk;
 mod error;
