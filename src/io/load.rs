@@ -99,6 +99,21 @@ const MAX_COORDINATE: f64 = 1e30;
 /// Widest header bounds (metres) trusted as the origin's source: larger than any real scan.
 pub(crate) const MAX_HEADER_EXTENT: f64 = 1e7;
 
+/// The union of the files' header bounds in world (Z-up) coordinates; `None` when any file
+/// has none.
+pub(crate) fn header_extent(infos: &[FileInfo], up: Up) -> Option<(DVec3, DVec3)> {
+    infos
+        .iter()
+        .map(|i| {
+            i.bounds.map(|(lo, hi)| {
+                let (a, b) = (up.to_world(lo), up.to_world(hi));
+                (a.min(b), a.max(b))
+            })
+        })
+        .reduce(|a, b| a.zip(b).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))))
+        .flatten()
+}
+
 /// A point that survives loading: finite and within [`MAX_COORDINATE`].
 pub(crate) fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
@@ -172,16 +187,7 @@ pub fn load_files_with_progress(
         .sum();
     let reserve = declared.min(MAX_RESERVE).min(file_len) as usize;
     progress.set_length(declared);
-    let header_centre = infos
-        .iter()
-        .map(|i| {
-            i.bounds.map(|(lo, hi)| {
-                let (a, b) = (up.to_world(lo), up.to_world(hi));
-                (a.min(b), a.max(b))
-            })
-        })
-        .reduce(|a, b| a.zip(b).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))))
-        .flatten();
+    let header_centre = header_extent(&infos, up);
 
     let mut positions: Option<Positions> = None;
     let mut rgb: Option<ColorAccum> = None;
@@ -193,7 +199,6 @@ pub fn load_files_with_progress(
     let mut dropped = 0u64;
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
 
-    let mut first_reader = first_reader;
     for p in paths {
         let mut reader = match first_reader.take() {
             Some(r) => r,

@@ -26,7 +26,7 @@ pub use info::{
 pub use load::{
     LoadOptions, LoadReport, Up, load_files_with_progress, load_scene, load_scene_with_progress,
 };
-pub(crate) use load::{MAX_HEADER_EXTENT, usable};
+pub(crate) use load::{MAX_HEADER_EXTENT, header_extent, usable};
 pub use stats::{PointStats, point_stats};
 
 pub(crate) use chunk::{RawChunk, RawRgb};

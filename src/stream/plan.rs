@@ -442,16 +442,7 @@ fn plan_sampled(
         });
     // Header bounds are trusted as the cloud's extent only if plausible and the sample lies
     // inside them (load_scene's test for its origin).
-    let header = infos
-        .iter()
-        .map(|info| {
-            info.bounds.map(|(a, b)| {
-                let (a, b) = (up.to_world(a), up.to_world(b));
-                (a.min(b), a.max(b))
-            })
-        })
-        .reduce(|a, b| a.zip(b).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))))
-        .flatten()
+    let header = io::header_extent(infos, up)
         .filter(|(blo, bhi)| {
             io::usable(*blo)
                 && io::usable(*bhi)
