@@ -40,7 +40,7 @@ impl ChunkSink for RasterSink<'_> {
     }
 }
 
-/// Streams `args.file` through the GPU rasterizer under `settings` (camera at the origin of
+/// Streams the input files through the GPU rasterizer under `settings` (camera at the origin of
 /// the streamed chunks).
 pub(super) fn rasterize(
     args: &RenderArgs,
@@ -66,18 +66,18 @@ pub(super) fn rasterize(
         ..PlanOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "surveying");
-    let plan = stream::plan(&args.file, &options, &pb)?;
+    let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
     pb.finish_and_clear();
     if plan.dropped > 0 {
         say(format!(
             "warning: dropped {} points with NaN/inf or absurd coordinates from {}",
             plan.dropped,
-            args.file.display()
+            args.inputs_name()
         ));
     }
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
-        args.file.display(),
+        args.inputs_name(),
         plan.declared,
         if plan.keep_file_radii {
             "per point".to_string()
@@ -116,8 +116,9 @@ pub(super) fn rasterize(
     };
     let pb = progress::bar(args.quiet, plan.declared, "rasterizing");
     let report = stream::stream_file(&plan, chunk_points, &mut sink, &pb)
-        .with_context(|| format!("rendering {}", args.file.display()))?;
+        .with_context(|| format!("rendering {}", args.inputs_name()))?;
     pb.finish_and_clear();
+    super::render::say_filtered(args, &report.filtered, report.drawn, say);
     let drawn = sink.frame.points();
     let (rendered, stats, _) = sink.frame.finish()?;
     say(format!(
