@@ -40,6 +40,8 @@ pub enum Command {
     Bench(BenchArgs),
     /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
     View(super::view::ViewerArgs),
+    /// Render a camera path through a scan, one frame per pose (resumable, shardable).
+    Tour(super::tour::TourArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.
@@ -108,6 +110,7 @@ impl ViewArgs {
             camera: self.camera,
             up: self.up,
             radius: self.radius,
+            origin: None,
         }
     }
 }
@@ -161,6 +164,11 @@ pub struct RenderArgs {
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Zero of the local frame the renderers work in (file coordinates; default: the camera).
+    /// With it the scan is loaded whole and the camera moves within that frame, as in a tour:
+    /// a tour's frame and `render --origin` at its pose give the same file.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
+    pub origin: Option<DVec3>,
     /// Memory cap, e.g. 2G or 800M (default: 80% of the available memory). The ray tracer
     /// refuses, before loading, a cloud whose estimated need exceeds it.
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]

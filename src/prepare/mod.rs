@@ -28,12 +28,15 @@ pub struct PrepareOptions {
     /// Sphere radius; `None` = the file's per-point radii when it has them, else auto
     /// ([`radius::apply_choice`]).
     pub radius: Option<RadiusChoice>,
+    /// Zero of the scene's local frame (file coordinates); `None` = the camera position.
+    /// A tour keeps one origin for all its frames and moves the camera within that frame.
+    pub origin: Option<DVec3>,
 }
 
-/// A scan ready to render: its local frame centred on the camera.
+/// A scan ready to render: its local frame centred on the camera (or on the given origin).
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    /// The scene, camera at the local origin.
+    /// The scene; its local zero is the camera, or [`PrepareOptions::origin`] when given.
     pub scene: Scene,
     /// The camera's position in file coordinates.
     pub camera_world: DVec3,
@@ -60,8 +63,8 @@ pub enum PrepareError {
     },
 }
 
-/// Loads `path`, places the camera (given, or automatic) at the local origin and sizes the
-/// spheres by the radius rule. `progress` counts the point records read.
+/// Loads `path`, places the camera (given, or automatic), moves the local zero onto the
+/// camera (or onto [`PrepareOptions::origin`]) and sizes the spheres by the radius rule. `progress` counts the point records read.
 ///
 /// # Errors
 /// A [`LoadError`] (also when no point has usable coordinates), or
@@ -72,17 +75,22 @@ pub fn prepare(
     progress: &ProgressBar,
 ) -> Result<Prepared, PrepareError> {
     let load = LoadOptions {
-        origin: options.camera,
+        origin: options.origin.or(options.camera),
         up: options.up,
         ..LoadOptions::default()
     };
     let (mut scene, report) = load_scene_with_progress(path, &load, progress)?;
-    let camera_world =
-        placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
-            PrepareError::CameraPlacement {
-                path: path.to_path_buf(),
-            }
-        })?;
+    let placed = match options.origin {
+        // The scene stays in the origin's frame, loaded there once (no second rounding).
+        Some(_) => match options.camera {
+            Some(c) => Some(c),
+            None => placement::auto_camera_position(&scene).map(|p| scene.origin + p),
+        },
+        None => placement::center_on_camera(&mut scene, options.camera),
+    };
+    let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
+        path: path.to_path_buf(),
+    })?;
     let radii = radius::apply_choice(&mut scene, options.radius);
     Ok(Prepared {
         scene,

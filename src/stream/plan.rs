@@ -421,6 +421,7 @@ mod tests {
                 camera,
                 up: Up::Z,
                 radius,
+                origin: None,
             };
             let options = PlanOptions {
                 prepare: prepare_options,
