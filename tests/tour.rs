@@ -524,3 +524,38 @@ fn bad_paths_are_refused_naming_the_file_and_line() {
     }
     assert!(!dir.path().join("out").exists(), "nothing was written");
 }
+
+#[test]
+fn options_that_cannot_apply_are_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tour(dir.path(), &["--camera", "636400,849100,440"], &[]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("drop --camera"), "{}", stderr(&out));
+    let out = tour(dir.path(), &["--shard", "3/3"], &[]);
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("out of range for 3 shards"),
+        "{}",
+        stderr(&out)
+    );
+    let png = dir.path().join("x.png");
+    let out = command(
+        &[
+            "render",
+            SCAN,
+            "-o",
+            png.to_str().unwrap(),
+            "--origin=636600,849175,463",
+            "--subsample=2",
+        ],
+        &[],
+    )
+    .output()
+    .unwrap();
+    assert!(!out.status.success());
+    assert!(
+        stderr(&out).contains("--subsample is not available with --origin"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -20,6 +20,12 @@ use super::{parse, progress};
 
 /// Options of `omnicloud tour`.
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("yaw", |a| a.help(
+        "Degrees added to every frame's heading (90 looks right of the direction of travel)"
+    )),
+    mut_arg("camera", |a| a.hide(true)),
+)]
 pub struct TourArgs {
     /// A LAS, LAZ or PLY file.
     pub file: PathBuf,
@@ -65,8 +71,8 @@ pub struct TourArgs {
     /// Image width per eye; the height is half of it.
     #[arg(long, default_value = "3840", value_parser = parse::width)]
     pub width: u32,
-    /// Scene and stereo (--camera is not taken: the path places the camera; --yaw is added
-    /// to every frame's heading, e.g. 90 looks right of the direction of travel).
+    /// Scene and stereo (--camera is refused: the path places the camera; --yaw is added to
+    /// every frame's heading).
     #[command(flatten)]
     pub view: ViewArgs,
     /// Point colour (auto: rgb when present, else elevation).

@@ -30,6 +30,7 @@ pub struct PrepareOptions {
     pub radius: Option<RadiusChoice>,
     /// Zero of the scene's local frame (file coordinates); `None` = the camera position.
     /// A tour keeps one origin for all its frames and moves the camera within that frame.
+    /// Only [`prepare`] reads it: the stream plan always centres its chunks on the camera.
     pub origin: Option<DVec3>,
 }
 
@@ -64,7 +65,8 @@ pub enum PrepareError {
 }
 
 /// Loads `path`, places the camera (given, or automatic), moves the local zero onto the
-/// camera (or onto [`PrepareOptions::origin`]) and sizes the spheres by the radius rule. `progress` counts the point records read.
+/// camera (or onto [`PrepareOptions::origin`]) and sizes the spheres by the radius rule.
+/// `progress` counts the point records read.
 ///
 /// # Errors
 /// A [`LoadError`] (also when no point has usable coordinates), or
