@@ -157,6 +157,13 @@ fn twelve_frames_stand_at_equal_arc_length_with_headings_along_the_path() {
     let out = tour(dense_dir.path(), &["--frames", "111", "--width", "16"], &[]);
     assert!(out.status.success(), "{}", stderr(&out));
     let dense = positions(&manifest(dense_dir.path()));
+    // The curve passes through the middle keyframe: a dense frame (4.2 m apart) stands
+    // within half a spacing of it.
+    let nearest = dense
+        .iter()
+        .map(|&p| horizontal(p, [636600.0, 849250.0, 0.0]))
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest < 2.2, "{nearest}");
     let mut arcs = Vec::new();
     for k in 0..12 {
         let (a, b) = (sparse[k], dense[10 * k]);
