@@ -31,6 +31,7 @@ pub mod scene;
 pub mod stream;
 pub mod suite;
 pub mod synthetic;
+pub mod tour;
 pub mod value;
 #[cfg(feature = "web")]
 pub mod web;

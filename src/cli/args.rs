@@ -39,6 +39,8 @@ pub enum Command {
     Bench(BenchArgs),
     /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
     View(super::view::ViewerArgs),
+    /// Render a camera path through a scan, one frame per pose (resumable, shardable).
+    Tour(super::tour::TourArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.
@@ -130,6 +132,7 @@ impl ViewArgs {
                 crop: self.crop,
                 max_distance: self.max_distance,
             },
+            origin: None,
         }
     }
 }
@@ -187,6 +190,11 @@ pub struct RenderArgs {
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Zero of the local frame the renderers work in (file coordinates; default: the camera).
+    /// With it the scan is loaded whole and the camera moves within that frame, as in a tour:
+    /// a tour's frame and `render --origin` at its pose give the same file.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
+    pub origin: Option<DVec3>,
     /// Memory cap, e.g. 2G or 800M (default: 80% of the available memory). The ray tracer
     /// refuses, before loading, a cloud whose estimated need exceeds it.
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]

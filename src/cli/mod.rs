@@ -8,11 +8,13 @@ mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
+mod tour;
 mod view;
 
 use anyhow::Result;
 
 pub use args::{Cli, Command};
+pub use tour::TourArgs;
 pub use view::ViewerArgs;
 
 /// Runs one parsed command line.
@@ -32,6 +34,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::View(args) => view::run(&args),
+        Command::Tour(args) => tour::run(&args),
     }
 }
 

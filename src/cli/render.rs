@@ -8,10 +8,11 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
-use crate::prepare::{FilterCounts, Prepared, prepare_files, subsample};
+use crate::prepare::{FilterCounts, PrepareOptions, Prepared, prepare_files, subsample};
 use crate::projection::{Camera, Equirect, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
+use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};
 
 use super::args::RenderArgs;
@@ -59,9 +60,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         imposter: args.imposter,
     };
     let render_start = Instant::now();
-    let rendered = match args.renderer {
-        RendererKind::Raytrace => ray_trace(args, &settings, &say)?,
-        RendererKind::Raster => super::render_stream::rasterize(args, &settings, &say)?,
+    let rendered = match (args.origin, args.renderer) {
+        (Some(origin), _) => render_resident(args, origin, &settings, &say)?,
+        (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
+        (None, RendererKind::Raster) => super::render_stream::rasterize(args, &settings, &say)?,
     };
     say(format!("rendered in {:.2?}", render_start.elapsed()));
 
@@ -164,6 +166,44 @@ fn top_bottom_name(path: &Path) -> PathBuf {
         .map(|e| format!(".{}", e.to_string_lossy()))
         .unwrap_or_default();
     path.with_file_name(format!("{stem}_360_TB{ext}"))
+}
+
+/// `--origin`: the scan loaded whole around `origin` and rendered as a tour renders each frame
+/// (the camera moves in that frame), so that the two give the same file.
+fn render_resident(
+    args: &RenderArgs,
+    origin: DVec3,
+    settings: &RenderSettings,
+    say: &impl Fn(String),
+) -> Result<Rendered> {
+    if args.subsample.is_some() {
+        bail!("--subsample is not available with --origin (a tour keeps the whole scan)");
+    }
+    crate::cli::render_guard::check_memory(args)?;
+    let options = PrepareOptions {
+        origin: Some(origin),
+        ..args.view.prepare_options()
+    };
+    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
+    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
+    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    let settings = RenderSettings {
+        camera: Camera::new(prepared.camera_world - origin, args.view.yaw),
+        ..*settings
+    };
+    let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
+    say(format!(
+        "{}: camera at ({}, {}, {}) in the frame of origin ({}, {}, {}); {}",
+        args.inputs_name(),
+        prepared.camera_world.x,
+        prepared.camera_world.y,
+        prepared.camera_world.z,
+        origin.x,
+        origin.y,
+        origin.z,
+        resident.describe()
+    ));
+    Ok(resident.render(&settings, &ProgressBar::hidden())?)
 }
 
 /// The ray tracer needs the whole cloud (and its BVH) in memory: load, subsample, trace.

@@ -32,12 +32,16 @@ pub struct PrepareOptions {
     pub radius: Option<RadiusChoice>,
     /// Which points to keep (classes, returns, crop, distance from the camera).
     pub filter: PointFilter,
+    /// Zero of the scene's local frame (file coordinates); `None` = the camera position.
+    /// A tour keeps one origin for all its frames and moves the camera within that frame.
+    /// Only [`prepare`] reads it: the stream plan always centres its chunks on the camera.
+    pub origin: Option<DVec3>,
 }
 
-/// A scan ready to render: its local frame centred on the camera.
+/// A scan ready to render: its local frame centred on the camera (or on the given origin).
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    /// The scene, camera at the local origin.
+    /// The scene; its local zero is the camera, or [`PrepareOptions::origin`] when given.
     pub scene: Scene,
     /// The camera's position in file coordinates.
     pub camera_world: DVec3,
@@ -69,8 +73,9 @@ pub enum PrepareError {
     Filter(#[from] FilterError),
 }
 
-/// Loads `path`, places the camera (given, or automatic) at the local origin, applies the
-/// filters and sizes the spheres by the radius rule. `progress` counts the point records read.
+/// Loads `path`, places the camera (given, or automatic), moves the local zero onto the
+/// camera (or onto [`PrepareOptions::origin`]), applies the filters and sizes the spheres by
+/// the radius rule. `progress` counts the point records read.
 ///
 /// # Errors
 /// A [`LoadError`] (also when no point has usable coordinates),
@@ -109,7 +114,7 @@ pub fn prepare_files(
         return Err(FilterError::NothingLeft { counts: skipped }.into());
     }
     let load = LoadOptions {
-        origin: options.camera,
+        origin: options.origin.or(options.camera),
         up: options.up,
         ..LoadOptions::default()
     };
@@ -122,12 +127,17 @@ pub fn prepare_files(
     if scene.is_empty() {
         return Err(FilterError::NothingLeft { counts: filtered }.into());
     }
-    let camera_world =
-        placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
-            PrepareError::CameraPlacement {
-                path: paths[0].clone(),
-            }
-        })?;
+    let placed = match options.origin {
+        // The scene stays in the origin's frame, loaded there once (no second rounding).
+        Some(_) => match options.camera {
+            Some(c) => Some(c),
+            None => placement::auto_camera_position(&scene).map(|p| scene.origin + p),
+        },
+        None => placement::center_on_camera(&mut scene, options.camera),
+    };
+    let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
+        path: paths[0].clone(),
+    })?;
     let (mut scene, after) = options
         .filter
         .apply(scene, options.up, filter::Stage::AfterCamera);
