@@ -40,6 +40,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
     View(super::view::ViewerArgs),
+    /// Render a scan live in the browser: pick camera positions on its map, tune IPD and
+    /// pole merging, look around (and in VR, through WebXR).
+    Serve(super::serve::ServeArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.

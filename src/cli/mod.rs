@@ -7,6 +7,7 @@ mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
+mod serve;
 mod view;
 
 use anyhow::{Context, Result};
@@ -14,6 +15,7 @@ use anyhow::{Context, Result};
 use crate::prepare::radius;
 
 pub use args::{Cli, Command};
+pub use serve::ServeArgs;
 pub use view::ViewerArgs;
 
 /// Runs one parsed command line.
@@ -33,6 +35,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::View(args) => view::run(&args),
+        Command::Serve(args) => serve::run(&args),
     }
 }
 
