@@ -223,7 +223,9 @@ fn with_headers<R: std::io::Read>(
     let header = |name: &str, value: &str| {
         Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
     };
-    let mut response = response;
+    // Every body's length is known: send it as Content-Length, never chunked, so clients
+    // see the size up front.
+    let mut response = response.with_chunked_threshold(usize::MAX);
     for (name, value) in extra {
         response = response.with_header(header(name, value));
     }

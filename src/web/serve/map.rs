@@ -81,11 +81,16 @@ impl MapGrid {
 /// Brightness of the lowest surface; the highest has 1. Height reads as light.
 const LOW_SHADE: f32 = 0.45;
 
+/// Gap-filling passes: an empty pixel takes its highest covered neighbour, so gaps up to
+/// twice this many pixels between sparse points close while open land stays empty.
+const FILL_PASSES: usize = 3;
+
 /// Renders `scene` (local frame, `scene.origin` its file position) from above onto `grid`:
 /// each pixel shows the sphere whose top is highest there (a sphere covers the pixels whose
 /// centres lie within its radius, and at least its own), in its `color` base colour scaled
-/// from [`LOW_SHADE`] to 1 between the 2nd and 98th percentile of the tops. Pixels no
-/// sphere covers are transparent (alpha 0).
+/// from [`LOW_SHADE`] to 1 between the 2nd and 98th percentile of the tops. Gaps narrower
+/// than `2 * FILL_PASSES` pixels take their neighbours' top; pixels further from any sphere
+/// are transparent (alpha 0).
 ///
 /// # Errors
 /// The colour mode needs an attribute the scene lacks.
@@ -95,61 +100,98 @@ pub fn render_map(
     color: ColorMode,
 ) -> Result<Frame, MissingAttribute> {
     let colors = base_colors(scene, color)?;
-    let (w, h) = (grid.width as usize, grid.height as usize);
-    let mut top = vec![f32::NEG_INFINITY; w * h];
-    let mut owner = vec![u32::MAX; w * h];
-    let origin = scene.origin.truncate();
-    let step = grid.pixel as f32;
-    // Map coordinates of the local frame's zero, so each point costs f32 arithmetic only.
-    let zero = grid.to_map(origin).as_vec2();
-    for (i, p) in scene.positions.iter().enumerate() {
-        let r = scene.radii.get(i);
-        let centre = zero + Vec2::new(p.x, -p.y) / step;
-        let reach = r / step;
-        let z = p.z + r;
-        let lo = (centre - Vec2::splat(reach)).floor().max(Vec2::ZERO);
-        let hi = (centre + Vec2::splat(reach))
-            .floor()
-            .min(Vec2::new(w as f32 - 1.0, h as f32 - 1.0));
-        let own = centre.floor();
-        for py in lo.y as usize..=hi.y.max(lo.y) as usize {
-            for px in lo.x as usize..=hi.x.max(lo.x) as usize {
-                let d = Vec2::new(px as f32 + 0.5, py as f32 + 0.5) - centre;
-                let is_own = own == Vec2::new(px as f32, py as f32);
-                if (d.length_squared() <= reach * reach || is_own)
-                    && px < w
-                    && py < h
-                    && z > top[py * w + px]
-                {
-                    top[py * w + px] = z;
-                    owner[py * w + px] = i as u32;
-                }
-            }
-        }
-    }
-    let (low, high) = height_range(&top);
+    let mut tops = splat_tops(scene, grid);
+    fill_gaps(&mut tops, grid.width as usize, FILL_PASSES);
+    let (low, high) = height_range(&tops);
     let mut frame = Frame::new(grid.width, grid.height);
-    for (k, (&z, &o)) in top.iter().zip(&owner).enumerate() {
-        if o == u32::MAX {
-            continue;
-        }
+    for (k, top) in tops.iter().enumerate() {
+        let Some((z, owner)) = *top else { continue };
         let t = if high > low {
             ((z - low) / (high - low)).clamp(0.0, 1.0)
         } else {
             1.0
         };
         let shade = LOW_SHADE + (1.0 - LOW_SHADE) * t;
-        let [r, g, b] = colors[o as usize].map(|c| (f32::from(c) * shade).round() as u8);
+        let [r, g, b] = colors[owner as usize].map(|c| (f32::from(c) * shade).round() as u8);
         frame.color[k] = [r, g, b, 255];
-        frame.depth[k] = -z;
     }
     Ok(frame)
 }
 
+/// Per pixel (row-major), the highest sphere top over it (local z) and its point.
+type Tops = Vec<Option<(f32, u32)>>;
+
+/// Draws every sphere's footprint, keeping the highest top per pixel.
+fn splat_tops(scene: &Scene, grid: &MapGrid) -> Tops {
+    let (w, h) = (grid.width as usize, grid.height as usize);
+    let mut tops: Tops = vec![None; w * h];
+    let step = grid.pixel as f32;
+    // Map coordinates of the local frame's zero, so each point costs f32 arithmetic only.
+    let zero = grid.to_map(scene.origin.truncate()).as_vec2();
+    let last = Vec2::new(w as f32 - 1.0, h as f32 - 1.0);
+    for (i, p) in scene.positions.iter().enumerate() {
+        let r = scene.radii.get(i);
+        let centre = zero + Vec2::new(p.x, -p.y) / step;
+        let reach = r / step;
+        let z = p.z + r;
+        let own = centre.floor();
+        let lo = (centre - Vec2::splat(reach))
+            .floor()
+            .min(own)
+            .max(Vec2::ZERO);
+        let hi = (centre + Vec2::splat(reach)).floor().max(own).min(last);
+        for py in lo.y as usize..=hi.y as usize {
+            for px in lo.x as usize..=hi.x as usize {
+                let d = Vec2::new(px as f32 + 0.5, py as f32 + 0.5) - centre;
+                let covers =
+                    d.length_squared() <= reach * reach || own == Vec2::new(px as f32, py as f32);
+                let k = py * w + px;
+                if covers && px < w && py < h && tops[k].is_none_or(|(t, _)| z > t) {
+                    tops[k] = Some((z, i as u32));
+                }
+            }
+        }
+    }
+    tops
+}
+
+/// Up to `passes` times, gives each empty pixel the highest top among its eight neighbours.
+fn fill_gaps(tops: &mut Tops, width: usize, passes: usize) {
+    let height = tops.len() / width.max(1);
+    for _ in 0..passes {
+        let before = tops.clone();
+        let mut filled = false;
+        for y in 0..height {
+            for x in 0..width {
+                if before[y * width + x].is_some() {
+                    continue;
+                }
+                let mut best: Option<(f32, u32)> = None;
+                for ny in y.saturating_sub(1)..=(y + 1).min(height - 1) {
+                    for nx in x.saturating_sub(1)..=(x + 1).min(width - 1) {
+                        if let Some((z, o)) = before[ny * width + nx]
+                            && best.is_none_or(|(b, _)| z > b)
+                        {
+                            best = Some((z, o));
+                        }
+                    }
+                }
+                if best.is_some() {
+                    tops[y * width + x] = best;
+                    filled = true;
+                }
+            }
+        }
+        if !filled {
+            break;
+        }
+    }
+}
+
 /// 2nd and 98th percentile of the covered pixels' tops (a few stray high or low points do
 /// not wash out the shading).
-fn height_range(top: &[f32]) -> (f32, f32) {
-    let mut zs: Vec<f32> = top.iter().copied().filter(|z| z.is_finite()).collect();
+fn height_range(tops: &Tops) -> (f32, f32) {
+    let mut zs: Vec<f32> = tops.iter().flatten().map(|&(z, _)| z).collect();
     if zs.is_empty() {
         return (0.0, 0.0);
     }
@@ -220,12 +262,27 @@ mod tests {
         // The high point at its full colour, the low one darkened to LOW_SHADE.
         assert_eq!(at(500.0, 800.0), [0, 200, 0, 255]);
         assert_eq!(at(495.0, 800.0), [90, 0, 0, 255]);
-        assert_eq!(at(502.0, 800.0)[3], 0, "beyond the sphere: background");
+        // Gaps close up to FILL_PASSES pixels (0.5 m each) from a sphere's edge, no further.
+        assert_eq!(at(501.75, 800.0), [0, 200, 0, 255]);
+        assert_eq!(at(502.25, 800.0)[3], 0, "beyond the gap fill: background");
+        let tops = splat_tops(&scene, &grid);
         assert_eq!(
-            map.coverage_count(),
+            tops.iter().flatten().count(),
             2 * 4,
             "a 0.4 m sphere covers 2x2 half-metre pixels"
         );
+    }
+
+    #[test]
+    fn gaps_between_sparse_points_close_and_open_land_stays_empty() {
+        // Two 1-pixel points 4 pixels apart on a row of 12.
+        let mut tops: Tops = vec![None; 12];
+        tops[2] = Some((1.0, 0));
+        tops[6] = Some((5.0, 1));
+        fill_gaps(&mut tops, 12, 2);
+        let owners: Vec<Option<u32>> = tops.iter().map(|t| t.map(|(_, o)| o)).collect();
+        let (a, b, n) = (Some(0), Some(1), None);
+        assert_eq!(owners, [a, a, a, a, b, b, b, b, b, n, n, n]);
     }
 
     #[test]

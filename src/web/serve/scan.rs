@@ -143,8 +143,8 @@ impl LiveScan {
     pub fn camera_at(&self, xy: DVec2) -> Option<DVec3> {
         let centre = (xy - self.scene.origin.truncate()).as_vec2();
         let eye = ground_camera_position(&self.scene, centre, self.extent)?;
-        let ground = eye.z - EYE_HEIGHT;
-        Some(self.scene.origin + DVec3::new(eye.x, eye.y, ground + self.options.height))
+        let ground = self.scene.origin.z + eye.z - EYE_HEIGHT;
+        Some(xy.extend(ground + self.options.height))
     }
 }
 
