@@ -121,6 +121,10 @@ fn bad_values_get_400_naming_the_field_and_serving_goes_on() {
         ),
         ("/api/render?north=marrinan:45,0", "north=\"marrinan:45,0\""),
         ("/api/render?seq=-3", "seq=\"-3\""),
+        (
+            "/api/render?client=../x",
+            "client=\"../x\": expected up to 64 letters",
+        ),
         ("/api/render?zoom=2", "unknown query parameter \"zoom\""),
         ("/api/render?x=636500&x=636600", "given twice"),
         ("/map.png?size=big", "takes none"),

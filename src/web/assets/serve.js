@@ -1,8 +1,9 @@
 // omnicloud serve: a map of the scan to stand on and sliders for the stereo settings; each
 // change asks the server for a new ODS pair (/api/render) and hands it to the viewer
-// (viewer.js) through viewer.showImage. Requests carry a sequence number: an answer older
-// than the one on screen is dropped, and the server answers requests a newer one replaced
-// with 409, so a fast slider always ends on its last value.
+// (viewer.js) through viewer.showImage. Requests carry the page's name and a sequence
+// number: the server renders only the newest of a page's waiting requests and answers the
+// others 409, and an answer older than the one on screen is dropped, so a fast slider always
+// ends on its last value.
 'use strict';
 
 (() => {
@@ -11,6 +12,8 @@
   const viewer = window.viewer;
 
   const live = {
+    // This page's name in the server's render queue: its requests replace only each other.
+    client: Math.random().toString(36).slice(2, 12),
     scan: null,         // /api/scan
     camera: null,       // [x, y] file coordinates asked for
     seq: 0,             // the newest request's number
@@ -82,7 +85,7 @@
     const [x, y] = live.camera;
     const query = new URLSearchParams({
       x: String(x), y: String(y), ipd: $('ipd').value,
-      north: mergeOf('north'), south: mergeOf('south'), seq: String(seq),
+      north: mergeOf('north'), south: mergeOf('south'), seq: String(seq), client: live.client,
     });
     const url = `/api/render?${query}`;
     $('timing').textContent = 'rendering…';
@@ -93,16 +96,18 @@
       statusLine.textContent = `render: ${e.message || e}`;
       return;
     }
+    // Every body is read to its end: an unread one holds its connection, and the browser's
+    // few connections per server would soon all wait.
+    const body = await response.blob();
     // A newer request replaced this one on the server, or one already shows a newer frame.
     if (response.status === 409 || seq < live.shownSeq) return;
     if (!response.ok) {
-      live.error = `render: ${response.status} ${(await response.text()).trim()}`;
+      live.error = `render: ${response.status} ${(await body.text()).trim()}`;
       statusLine.textContent = live.error;
       live.shownSeq = Math.max(live.shownSeq, seq);
       settle();
       return;
     }
-    const blob = await response.blob();
     const camera = (response.headers.get('X-Omnicloud-Camera') || '').split(',').map(Number);
     const ms = Number(response.headers.get('X-Omnicloud-Render-Ms'));
     const size = Math.min(1, viewer.maxTexture / live.scan.width);
@@ -112,7 +117,7 @@
       options.resizeHeight = options.resizeWidth;
       options.resizeQuality = 'high';
     }
-    const image = await createImageBitmap(blob, options);
+    const image = await createImageBitmap(body, options);
     if (seq < live.shownSeq) return;
     live.shownSeq = seq;
     live.error = null;

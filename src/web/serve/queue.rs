@@ -1,25 +1,34 @@
-//! A render queue of one: a newer request replaces the one still waiting, so a slider
-//! dragged faster than frames render is drawn at its latest value, never a stale one last.
+//! The render queue: one waiting job per client, and a newer job of a client replaces its
+//! waiting one, so a slider dragged faster than frames render ends on its last value, never
+//! on a stale one. Clients number their jobs; browsers may send requests out of order, so a
+//! job older than the client's waiting or last taken job is refused rather than queued.
 
+use std::collections::{HashMap, VecDeque};
+use std::hash::Hash;
 use std::sync::{Condvar, Mutex, PoisonError};
 
-/// One waiting job at most; [`push`](Self::push) hands back the job it replaced so the
-/// caller can tell its sender.
-pub struct LatestQueue<T> {
-    state: Mutex<State<T>>,
+/// Clients remembered for refusing stale jobs; past this many the memory starts afresh.
+const MAX_CLIENTS: usize = 1024;
+
+/// Waiting jobs in arrival order, at most one per client key.
+pub struct LatestQueue<K, T> {
+    state: Mutex<State<K, T>>,
     ready: Condvar,
 }
 
-struct State<T> {
-    waiting: Option<T>,
+struct State<K, T> {
+    waiting: VecDeque<(K, u64, T)>,
+    /// The sequence number of each client's last taken job.
+    taken: HashMap<K, u64>,
     closed: bool,
 }
 
-impl<T> Default for LatestQueue<T> {
+impl<K: Eq + Hash + Clone, T> Default for LatestQueue<K, T> {
     fn default() -> Self {
         LatestQueue {
             state: Mutex::new(State {
-                waiting: None,
+                waiting: VecDeque::new(),
+                taken: HashMap::new(),
                 closed: false,
             }),
             ready: Condvar::new(),
@@ -27,32 +36,45 @@ impl<T> Default for LatestQueue<T> {
     }
 }
 
-impl<T> LatestQueue<T> {
+impl<K: Eq + Hash + Clone, T> LatestQueue<K, T> {
     /// An empty, open queue.
     pub fn new() -> Self {
         Self::default()
     }
 
-    /// Queues `job` in place of the waiting one, which it returns. After [`close`]
-    /// (Self::close) the job itself comes back: nothing will take it.
-    pub fn push(&self, job: T) -> Option<T> {
+    /// Queues `job`, number `seq` of client `key`, and returns the job that will not be
+    /// taken: the client's waiting job when `job` is at least as new (equal numbers: the
+    /// later arrival wins), else `job` itself (older than what the client already has
+    /// waiting or taken, or the queue is closed).
+    pub fn push(&self, key: K, seq: u64, job: T) -> Option<T> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-        if state.closed {
+        if state.closed || state.taken.get(&key).is_some_and(|&last| seq < last) {
             return Some(job);
         }
-        let replaced = state.waiting.replace(job);
+        if let Some(slot) = state.waiting.iter_mut().find(|(k, _, _)| *k == key) {
+            if seq < slot.1 {
+                return Some(job);
+            }
+            let (_, _, old) = std::mem::replace(slot, (key, seq, job));
+            return Some(old);
+        }
+        state.waiting.push_back((key, seq, job));
         self.ready.notify_one();
-        replaced
+        None
     }
 
-    /// Waits for a job and takes it; `None` once the queue is closed.
+    /// Waits for the longest-waiting job and takes it; `None` once the queue is closed.
     pub fn take(&self) -> Option<T> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         loop {
             if state.closed {
                 return None;
             }
-            if let Some(job) = state.waiting.take() {
+            if let Some((key, seq, job)) = state.waiting.pop_front() {
+                if state.taken.len() >= MAX_CLIENTS {
+                    state.taken.clear();
+                }
+                state.taken.insert(key, seq);
                 return Some(job);
             }
             state = self
@@ -62,13 +84,13 @@ impl<T> LatestQueue<T> {
         }
     }
 
-    /// Closes the queue: [`take`](Self::take) returns `None` and the waiting job, if any, is
-    /// handed back.
-    pub fn close(&self) -> Option<T> {
+    /// Closes the queue: [`take`](Self::take) returns `None`; the waiting jobs are handed
+    /// back.
+    pub fn close(&self) -> Vec<T> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
         state.closed = true;
         self.ready.notify_all();
-        state.waiting.take()
+        state.waiting.drain(..).map(|(_, _, job)| job).collect()
     }
 }
 
@@ -79,16 +101,36 @@ mod tests {
     use std::time::Duration;
 
     #[test]
-    fn a_newer_job_replaces_the_waiting_one() {
+    fn a_newer_job_replaces_the_waiting_one_and_an_older_one_is_refused() {
         let q = LatestQueue::new();
-        assert_eq!(q.push(1), None);
-        assert_eq!(q.push(2), Some(1));
-        assert_eq!(q.push(3), Some(2));
-        assert_eq!(q.take(), Some(3));
-        assert_eq!(q.push(4), None, "the taken job is no longer waiting");
-        assert_eq!(q.close(), Some(4));
+        assert_eq!(q.push("a", 1, "a1"), None);
+        assert_eq!(q.push("a", 3, "a3"), Some("a1"));
+        // Sent before a3, arrived after it.
+        assert_eq!(q.push("a", 2, "a2"), Some("a2"));
+        assert_eq!(q.take(), Some("a3"));
+        assert_eq!(
+            q.push("a", 2, "late"),
+            Some("late"),
+            "older than the one taken"
+        );
+        assert_eq!(q.push("a", 3, "again"), None, "as new as the one taken");
+        assert_eq!(q.close(), vec!["again"]);
         assert_eq!(q.take(), None);
-        assert_eq!(q.push(5), Some(5), "a closed queue takes nothing");
+        assert_eq!(q.push("a", 9, "closed"), Some("closed"));
+    }
+
+    #[test]
+    fn each_client_keeps_its_own_waiting_job_in_arrival_order() {
+        let q = LatestQueue::new();
+        assert_eq!(q.push("desk", 5, "d5"), None);
+        assert_eq!(q.push("headset", 1, "h1"), None);
+        assert_eq!(q.push("desk", 6, "d6"), Some("d5"));
+        // Unnumbered requests (0): the later arrival wins.
+        assert_eq!(q.push("", 0, "x"), None);
+        assert_eq!(q.push("", 0, "y"), Some("x"));
+        assert_eq!(q.take(), Some("d6"));
+        assert_eq!(q.take(), Some("h1"));
+        assert_eq!(q.take(), Some("y"));
     }
 
     #[test]
@@ -107,18 +149,18 @@ mod tests {
         };
         let mut dropped = Vec::new();
         for job in 0..20 {
-            dropped.extend(q.push(job));
+            dropped.extend(q.push("page", job, job));
             std::thread::sleep(Duration::from_millis(5));
         }
         // Let the consumer finish what it holds and take the last job.
-        let mut taken: Vec<i32> = Vec::new();
+        let mut taken: Vec<u64> = Vec::new();
         while taken.last() != Some(&19) {
             taken.push(taken_rx.recv_timeout(Duration::from_secs(5)).unwrap());
         }
         q.close();
         consumer.join().unwrap();
         // Every job was either taken or handed back, never both; the last taken is the newest.
-        let mut all: Vec<i32> = taken.iter().chain(&dropped).copied().collect();
+        let mut all: Vec<u64> = taken.iter().chain(&dropped).copied().collect();
         all.sort_unstable();
         assert_eq!(all, (0..20).collect::<Vec<_>>());
         assert!(taken.windows(2).all(|w| w[0] < w[1]), "{taken:?}");

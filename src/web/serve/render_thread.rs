@@ -40,7 +40,7 @@ pub struct LiveFrame {
 /// Why a request got no frame.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RenderFailure {
-    /// A newer request replaced it before it started.
+    /// A newer request of the same client replaced it before it started.
     #[error("superseded by a newer render request")]
     Superseded,
     /// No ground near the asked position to stand the camera on.
@@ -66,7 +66,7 @@ struct Job {
 
 /// The render thread's handle; dropping it stops the thread once its render is done.
 pub struct RenderThread {
-    queue: Arc<LatestQueue<Job>>,
+    queue: Arc<LatestQueue<String, Job>>,
     thread: Option<JoinHandle<()>>,
     adapter: String,
     max_width: u32,
@@ -79,7 +79,7 @@ impl RenderThread {
     /// # Errors
     /// The rasterizer could not start (no adapter, a refused device).
     pub fn start(scan: Arc<LiveScan>) -> Result<Self, ServeError> {
-        let queue: Arc<LatestQueue<Job>> = Arc::new(LatestQueue::new());
+        let queue: Arc<LatestQueue<String, Job>> = Arc::new(LatestQueue::new());
         let (ready_tx, ready_rx) = channel();
         let thread = {
             let queue = queue.clone();
@@ -137,11 +137,12 @@ impl RenderThread {
         self.max_width
     }
 
-    /// Queues `request` in place of any request still waiting (which is answered
-    /// [`RenderFailure::Superseded`]) and waits for its frame.
+    /// Queues `request` in place of its client's request still waiting, and waits for its
+    /// frame. Whichever of the two is older is answered [`RenderFailure::Superseded`].
     pub fn render(&self, request: RenderRequest) -> Result<LiveFrame, RenderFailure> {
         let (reply, answer) = channel();
-        if let Some(replaced) = self.queue.push(Job { request, reply }) {
+        let (client, seq) = (request.client.clone(), request.seq);
+        if let Some(replaced) = self.queue.push(client, seq, Job { request, reply }) {
             let _ = replaced.reply.send(Err(RenderFailure::Superseded));
         }
         answer.recv().unwrap_or(Err(RenderFailure::Stopped))
@@ -150,7 +151,7 @@ impl RenderThread {
 
 impl Drop for RenderThread {
     fn drop(&mut self) {
-        if let Some(job) = self.queue.close() {
+        for job in self.queue.close() {
             let _ = job.reply.send(Err(RenderFailure::Stopped));
         }
         if let Some(t) = self.thread.take() {

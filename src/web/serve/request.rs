@@ -1,5 +1,5 @@
-//! The query of `/api/render` (`x=&y=&ipd=&north=&south=&seq=`), checked so that a bad value
-//! gets a 400 naming its field before anything is queued.
+//! The query of `/api/render` (`x=&y=&ipd=&north=&south=&seq=&client=`), checked so that a
+//! bad value gets a 400 naming its field before anything is queued.
 
 use glam::DVec2;
 
@@ -9,14 +9,17 @@ use crate::value::finite;
 use crate::web::query::pairs;
 
 /// The names `/api/render` accepts.
-pub const RENDER_KEYS: [&str; 6] = ["x", "y", "ipd", "north", "south", "seq"];
+pub const RENDER_KEYS: [&str; 7] = ["x", "y", "ipd", "north", "south", "seq", "client"];
+
+/// Longest `client` name.
+const MAX_CLIENT: usize = 64;
 
 /// Default interocular distance, metres (DESIGN §3).
 pub const DEFAULT_IPD: f64 = 0.064;
 
 /// One render asked for: where the camera stands (file XY; its height comes from the ground
 /// there) and the stereo settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RenderRequest {
     /// Camera position, file X and Y.
     pub xy: DVec2,
@@ -24,8 +27,12 @@ pub struct RenderRequest {
     pub ipd: f64,
     /// Pole merging at each pole.
     pub merging: PoleMerging,
-    /// The page's number for this request, echoed in the reply (0 when not given).
+    /// The client's number for this request, echoed in the reply (0 when not given): of a
+    /// client's requests, only the newest renders.
     pub seq: u64,
+    /// Who asks (a page names itself; empty when not given): each client has its own place
+    /// in the render queue.
+    pub client: String,
 }
 
 /// The XY box a camera may stand in (the scan's bounds, file coordinates), and where it
@@ -48,6 +55,7 @@ impl RenderRequest {
             ipd: DEFAULT_IPD,
             merging: PoleMerging::both(PoleMerge::COMFORTABLE),
             seq: 0,
+            client: String::new(),
         };
         for (key, value) in pairs(query, &RENDER_KEYS)? {
             let number = || finite(&value, &key).map_err(|e| format!("{key}={value:?}: {e}"));
@@ -75,6 +83,18 @@ impl RenderRequest {
                             u64::MAX
                         )
                     })?;
+                }
+                "client" => {
+                    let ok = value.len() <= MAX_CLIENT
+                        && value
+                            .bytes()
+                            .all(|b| b.is_ascii_alphanumeric() || b == b'-' || b == b'_');
+                    if !ok {
+                        return Err(format!(
+                            "client={value:?}: expected up to {MAX_CLIENT} letters, digits, - or _"
+                        ));
+                    }
+                    request.client = value;
                 }
                 _ => unreachable!("pairs() admits only RENDER_KEYS"),
             }
@@ -107,7 +127,7 @@ mod tests {
     #[test]
     fn a_full_request_is_read_and_missing_fields_take_defaults() {
         let r = RenderRequest::parse(
-            "x=150.5&y=399&ipd=0.07&north=marrinan:60,10,2&south=off&seq=42",
+            "x=150.5&y=399&ipd=0.07&north=marrinan:60,10,2&south=off&seq=42&client=tab-7",
             &LIMITS,
         )
         .unwrap();
@@ -122,7 +142,7 @@ mod tests {
             }
         );
         assert_eq!(r.merging.south, PoleMerge::Off);
-        assert_eq!(r.seq, 42);
+        assert_eq!((r.seq, r.client.as_str()), (42, "tab-7"));
         let d = RenderRequest::parse("", &LIMITS).unwrap();
         assert_eq!(d.xy, LIMITS.default);
         assert_eq!((d.ipd, d.seq), (DEFAULT_IPD, 0));
@@ -152,6 +172,7 @@ mod tests {
             ("south=sideways", "south=\"sideways\": unknown pole merge"),
             ("north=marrinan:45,0,NaN", "north=\"marrinan:45,0,NaN\""),
             ("seq=-1", "seq=\"-1\""),
+            ("client=a/b", "client=\"a/b\": expected up to 64 letters"),
             ("zoom=2", "unknown query parameter \"zoom\""),
             ("x=150&x=160", "given twice"),
         ];
