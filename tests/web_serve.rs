@@ -309,3 +309,80 @@ fn a_failed_render_gets_500_with_the_reason_and_serving_goes_on() {
         assert_still_serving(addr);
     }
 }
+
+/// `omnicloud serve` itself: loads the scan, prints the address (and, bound to every
+/// interface, the warning), serves it, and stops on Ctrl-C (SIGINT).
+#[cfg(all(unix, feature = "cli"))]
+#[test]
+fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
+    use std::io::{BufRead, Read};
+    use std::process::{Command, Stdio};
+
+    if shared().is_none() {
+        return; // no adapter: the command would refuse to start
+    }
+    let mut child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args([
+            "serve", "--host", "0.0.0.0", "--port", "0", "--width", "256",
+        ])
+        .args(["--map-size", "128", "--height", "2.5"])
+        .arg(sample())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut lines = Vec::new();
+    let url = loop {
+        let mut line = String::new();
+        assert!(
+            stdout.read_line(&mut line).unwrap() > 0,
+            "no address in {lines:?}"
+        );
+        if let Some(rest) = line.strip_prefix("open http://") {
+            break rest.split('/').next().unwrap().to_owned();
+        }
+        lines.push(line);
+    };
+    assert!(
+        lines[0]
+            .contains("autzen_trim.laz (110000 points, radius 0.6679 m, map 128x62, ODS 256x256"),
+        "{lines:?}"
+    );
+    let addr: SocketAddr = url.parse().unwrap();
+    assert!(addr.ip().is_loopback(), "{addr}");
+    let scan: serde_json::Value = serde_json::from_slice(&get(addr, "/api/scan").body).unwrap();
+    assert_eq!(scan["height"], 2.5);
+    let r = get(addr, "/api/render?seq=1");
+    assert_eq!(r.status, 200, "{}", r.text());
+    let camera = camera_header(&r);
+    let start: Vec<f64> = serde_json::from_value(scan["camera"].clone()).unwrap();
+    assert_eq!(
+        camera.to_array().to_vec(),
+        start,
+        "the page starts where /api/scan says"
+    );
+    // 2.5 m above the ground there, 0.8 m above the default eye height.
+    let at_eye_height = camera_header(&get(shared().unwrap(), "/api/render"));
+    assert_eq!(camera.truncate(), at_eye_height.truncate());
+    assert!(
+        (camera.z - at_eye_height.z - 0.8).abs() < 1e-9,
+        "{camera} vs {at_eye_height}"
+    );
+
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let mut rest = String::new();
+    stdout.read_to_string(&mut rest).unwrap();
+    assert!(rest.contains("omnicloud serve: stopped"), "{rest}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: listening on 0.0.0.0:"),
+        "{stderr}"
+    );
+}

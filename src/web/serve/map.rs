@@ -74,7 +74,7 @@ impl MapGrid {
         let m = self.to_map(file).floor();
         let inside =
             m.x >= 0.0 && m.y >= 0.0 && m.x < f64::from(self.width) && m.y < f64::from(self.height);
-        inside.then(|| (m.x as u32, m.y as u32))
+        inside.then_some((m.x as u32, m.y as u32))
     }
 }
 

@@ -45,14 +45,16 @@ impl<K: Eq + Hash + Clone, T> LatestQueue<K, T> {
     /// Queues `job`, number `seq` of client `key`, and returns the job that will not be
     /// taken: the client's waiting job when `job` is at least as new (equal numbers: the
     /// later arrival wins), else `job` itself (older than what the client already has
-    /// waiting or taken, or the queue is closed).
+    /// waiting or taken, or the queue is closed). Number 0 is unnumbered: never older than
+    /// anything, so it always replaces the client's waiting job.
     pub fn push(&self, key: K, seq: u64, job: T) -> Option<T> {
         let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
-        if state.closed || state.taken.get(&key).is_some_and(|&last| seq < last) {
+        let stale = |than: u64| seq != 0 && seq < than;
+        if state.closed || state.taken.get(&key).is_some_and(|&last| stale(last)) {
             return Some(job);
         }
         if let Some(slot) = state.waiting.iter_mut().find(|(k, _, _)| *k == key) {
-            if seq < slot.1 {
+            if stale(slot.1) {
                 return Some(job);
             }
             let (_, _, old) = std::mem::replace(slot, (key, seq, job));
@@ -125,12 +127,14 @@ mod tests {
         assert_eq!(q.push("desk", 5, "d5"), None);
         assert_eq!(q.push("headset", 1, "h1"), None);
         assert_eq!(q.push("desk", 6, "d6"), Some("d5"));
-        // Unnumbered requests (0): the later arrival wins.
-        assert_eq!(q.push("", 0, "x"), None);
+        // Unnumbered requests (0): the later arrival wins, whatever came before.
+        assert_eq!(q.push("", 7, "w"), None);
+        assert_eq!(q.push("", 0, "x"), Some("w"));
         assert_eq!(q.push("", 0, "y"), Some("x"));
         assert_eq!(q.take(), Some("d6"));
         assert_eq!(q.take(), Some("h1"));
         assert_eq!(q.take(), Some("y"));
+        assert_eq!(q.push("desk", 0, "d0"), None, "after d6 was taken");
     }
 
     #[test]

@@ -76,7 +76,8 @@ pub struct ScanInfo {
     /// The map's pixel grid: pixel centre `(i + 0.5, j + 0.5)` is file
     /// `(x0 + (i + 0.5) * pixel, y1 - (j + 0.5) * pixel)`.
     pub map: MapGrid,
-    /// The camera the page starts at.
+    /// The camera the page starts at: [`LiveOptions::height`] above the ground at the XY
+    /// preparation placed the camera at.
     pub camera: [f64; 3],
     /// Camera height above the ground, metres.
     pub height: f64,
@@ -126,7 +127,7 @@ impl LiveScan {
             ipd: DEFAULT_IPD,
             pole_merge: spell(PoleMerge::COMFORTABLE),
         };
-        Ok(LiveScan {
+        let mut scan = LiveScan {
             extent: (hi - lo).truncate().max_element() as f32,
             scene,
             options,
@@ -134,7 +135,13 @@ impl LiveScan {
             grid,
             map_png,
             info,
-        })
+        };
+        // Preparation stood the camera at the default eye height; the page starts at the
+        // served one.
+        if let Some(camera) = scan.camera_at(default.truncate()) {
+            scan.info.camera = camera.to_array();
+        }
+        Ok(scan)
     }
 
     /// The camera (file coordinates) [`LiveOptions::height`] above the ground at file `xy`:
@@ -212,6 +219,9 @@ mod tests {
         let json = serde_json::to_value(&scan.info).unwrap();
         assert_eq!(json["pole_merge"], "marrinan:45,0,3");
         assert_eq!(json["map"]["width"], 80);
-        assert_eq!(json["camera"], serde_json::json!([1000.0, 2000.0, 50.0]));
+        // Prepared at 1.7 m above the ground, served at 3 m.
+        let camera: Vec<f64> = serde_json::from_value(json["camera"].clone()).unwrap();
+        assert_eq!(&camera[..2], &[1000.0, 2000.0]);
+        assert!((camera[2] - 51.3).abs() < 0.05, "{camera:?}");
     }
 }
