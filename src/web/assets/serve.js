@@ -81,6 +81,7 @@
   }
 
   async function request() {
+    if (!live.camera) return;  // a slider moved before the scan's description arrived
     const seq = ++live.seq;
     const [x, y] = live.camera;
     const query = new URLSearchParams({

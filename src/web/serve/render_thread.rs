@@ -123,7 +123,9 @@ impl RenderThread {
                 Ok(started)
             }
             Ok(Err(e)) => Err(e),
-            Err(_) => Err(ServeError::Raster(crate::raster::RasterError::NoAdapter)),
+            Err(_) => Err(ServeError::Thread(std::io::Error::other(
+                "the render thread stopped while creating the rasterizer",
+            ))),
         }
     }
 
