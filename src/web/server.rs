@@ -79,7 +79,8 @@ pub struct ViewServer {
     panorama: Arc<Panorama>,
 }
 
-/// Stops a serving [`ViewServer`] from another thread (a Ctrl-C handler, a test).
+/// Stops a serving server (`view`'s or `serve`'s) from another thread (a Ctrl-C handler, a
+/// test).
 #[derive(Clone)]
 pub struct Stopper(Arc<AtomicBool>);
 
