@@ -6,7 +6,7 @@
 //!
 //! Features: `gpu` (the wgpu rasterizer, [`raster`]), `charts` (benchmark charts and the
 //! comparison heatmap), `bench` (both, plus timing runs), `web` (the panorama viewer's
-//! server), `cli` (all of them and the `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
+//! server; with `gpu` also the live scan server), `cli` (all of them and the `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
 //! streams, writes and compares scans.
 
 #[cfg(feature = "bench")]

@@ -41,6 +41,9 @@ pub enum Command {
     View(super::view::ViewerArgs),
     /// Render a camera path through a scan, one frame per pose (resumable, shardable).
     Tour(super::tour::TourArgs),
+    /// Render a scan live in the browser: pick camera positions on its map, tune IPD and
+    /// pole merging, look around (and in VR, through WebXR).
+    Serve(super::serve::ServeArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.

@@ -8,12 +8,14 @@ mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
+mod serve;
 mod tour;
 mod view;
 
 use anyhow::Result;
 
 pub use args::{Cli, Command};
+pub use serve::ServeArgs;
 pub use tour::TourArgs;
 pub use view::ViewerArgs;
 
@@ -35,6 +37,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::View(args) => view::run(&args),
         Command::Tour(args) => tour::run(&args),
+        Command::Serve(args) => serve::run(&args),
     }
 }
 
