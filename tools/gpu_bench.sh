@@ -32,9 +32,9 @@ run() { # NAME SCENE STEREO MODES [extra bench options]
   "$bin" "${args[@]}"
 }
 run autzen_ods  data/autzen_trim.laz ods  all   --radius 0.4
-run autzen_mono data/autzen_trim.laz mono all   --radius 0.4
+run autzen_mono data/autzen_trim.laz none all   --radius 0.4
 run big_ods     "$big"               ods  $fast
-run big_mono    "$big"               mono $fast
+run big_mono    "$big"               none $fast
 
 {
   echo "# GPU benchmark"
