@@ -483,11 +483,11 @@ pub(crate) mod tests {
         let committed = include_str!("../../docs/bench/suite.csv");
         assert_eq!(lines[0], committed.lines().next().unwrap());
         for l in &lines {
-            assert_eq!(l.split(',').count(), 26, "{l}");
+            assert_eq!(l.split(',').count(), 27, "{l}");
         }
         assert_eq!(
             lines[1],
-            "sample,100,64,32,mono,quad+sprite,quad,sprite,2.0000,1.5000,3.0000,500.00,\
+            "sample,100,64,32,mono,quad+sprite,quad,sprite,2.0000,1.5000,3.0000,500.00,200.00,\
              wall-clock,3,5.000000e-2,0.900000,1.000e-5,1.000e-3,1.000e-2,0.000000e0,30.00,\
              0,0,0,0,0"
         );
@@ -502,8 +502,9 @@ pub(crate) mod tests {
         let rows = md
             .lines()
             .filter(|l| l.starts_with("| sprite") || l.starts_with("| raycast"));
-        assert_eq!(rows.count(), 8);
+        assert_eq!(rows.count(), 10);
         assert!(md.contains("| sprite | frame time (fps) | 2.00 ms (500 fps) |"));
+        assert!(md.contains("| sprite | sustained fps | 200.0 |"));
         assert!(md.contains("wall clock"));
     }
 }
