@@ -6,7 +6,7 @@
 //!
 //! Features: `gpu` (the wgpu rasterizer, [`raster`]), `charts` (benchmark charts and the
 //! comparison heatmap), `bench` (both, plus timing runs), `web` (the panorama viewer's
-//! server), `cli` (all of them and the `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
+//! server), `video` (H.264 MP4 360 videos), `cli` (all of them and the `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
 //! streams, writes and compares scans.
 
 #[cfg(feature = "bench")]
@@ -32,6 +32,8 @@ pub mod stream;
 pub mod suite;
 pub mod synthetic;
 pub mod value;
+#[cfg(feature = "video")]
+pub mod video;
 #[cfg(feature = "web")]
 pub mod web;
 

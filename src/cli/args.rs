@@ -40,6 +40,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
     View(super::view::ViewerArgs),
+    /// Encode a folder of panorama frames (a tour) into an H.264 MP4 that 360 players show
+    /// as a sphere, in stereo for ODS frames.
+    Video(super::video::VideoArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.

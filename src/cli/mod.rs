@@ -7,6 +7,7 @@ mod progress;
 mod render;
 mod render_guard;
 mod render_stream;
+mod video;
 mod view;
 
 use anyhow::{Context, Result};
@@ -33,6 +34,7 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::View(args) => view::run(&args),
+        Command::Video(args) => video::run(&args),
     }
 }
 
