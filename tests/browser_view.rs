@@ -694,10 +694,7 @@ fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
     let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
     let info = js(&tab, "viewer.info");
     assert_eq!(info["kind"], "ods", "{info}");
-    assert_eq!(
-        info["video"],
-        serde_json::json!({"frames": 24, "fps": 12.0})
-    );
+    assert_eq!(info["video"], serde_json::json!({"frames": 24, "fps": 12}));
     let (w, h) = page_size(&tab);
     let centre = |tab: &Tab| {
         let p = screenshot(tab).get_pixel(w / 2, h / 2).0;
@@ -711,6 +708,7 @@ fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
             .map(|(&a, b)| (i32::from(a) - i32::from(b)).abs())
             .max()
             .unwrap();
+        eprintln!("{what}: got {got:?}, expected {want:?}");
         assert!(d <= 4, "{what}: got {got:?}, expected {want:?}");
     };
 
@@ -739,10 +737,10 @@ fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
          if (seen.length >= 4) resolve(seen); else setTimeout(poll, 5); }; poll(); })",
     );
     let seen: Vec<i64> = serde_json::from_value(seen).unwrap();
-    assert!(
-        seen.windows(2).all(|p| p[1] > p[0] || p[1] < 3),
-        "frames shown in order: {seen:?}"
-    );
+    eprintln!("frames seen while playing: {seen:?}");
+    // Forward, wrapping at most once (the video loops; a loaded machine may poll late).
+    let wraps = seen.windows(2).filter(|p| p[1] < p[0]).count();
+    assert!(wraps <= 1, "frames shown in order: {seen:?}");
     let playing = centre(&tab);
     let shown = video_frame_of(playing[0]);
     assert!(shown >= 1, "the picture advanced with play: {playing:?}");

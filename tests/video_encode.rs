@@ -20,22 +20,24 @@ use omnicloud::{Frame, Rendered};
 const FRAMES: usize = 12;
 
 /// Lowest PSNR accepted between a source frame and its decoded video frame. Measured on the
-/// 256x256 ODS tour at the automatic 1 Mbit/s: frame 0 38.5 dB, worst frame 38.0 dB.
-const MIN_PSNR_DB: f64 = 35.0;
+/// 256x256 ODS tour at the automatic 1 Mbit/s: 41.1 dB for frame 0, the worst frame.
+const MIN_PSNR_DB: f64 = 38.0;
 
-/// One eye of frame `k` of a synthetic tour: smooth colour gradients with a bright stripe that
-/// moves with `k`, different for each eye (`eye` 0 or 1), so frames and eyes differ.
+/// One eye of frame `k` of a synthetic tour: smooth colour gradients under bright stripes that
+/// move with `k`, placed differently for each eye (`eye` 0 or 1), so frames and eyes differ.
+/// The stripes are grey, detail in brightness as in a render: colour detail at the pixel scale
+/// is what 4:2:0 chroma halves (blue-only stripes of the same slope measured 35 dB before any
+/// coding, from the colour conversion alone).
 fn eye(width: u32, k: usize, eye: u32) -> Frame {
     let height = width / 2;
     let rgba = image::RgbaImage::from_fn(width, height, |i, j| {
         let u = f64::from(i) / f64::from(width);
         let v = f64::from(j) / f64::from(height);
-        let stripe = ((u * 8.0 + k as f64 * 0.05 + f64::from(eye) * 0.25) * std::f64::consts::TAU)
-            .sin()
-            .max(0.0);
-        let r = 40.0 + 180.0 * u;
-        let g = 30.0 + 160.0 * v;
-        let b = 60.0 + 150.0 * stripe;
+        let phase = u * 8.0 + v * 2.0 + k as f64 * 0.05 + f64::from(eye) * 0.25;
+        let stripe = 70.0 * (phase * std::f64::consts::TAU).sin().max(0.0);
+        let r = 30.0 + 140.0 * u + stripe;
+        let g = 30.0 + 120.0 * v + stripe;
+        let b = 80.0 + stripe;
         image::Rgba([r as u8, g as u8, b as u8, 255])
     });
     Frame::from_rgba8(rgba)
@@ -152,7 +154,10 @@ fn an_ods_tour_decodes_back_to_its_frames_with_top_bottom_360_metadata() {
         assert_eq!(found.len(), 1, "{}", String::from_utf8_lossy(kind));
         found[0]
     };
-    let (avc1, avcc, st3d, sv3d) = (at(b"avc1"), at(b"avcC"), at(b"st3d"), at(b"sv3d"));
+    // `avc1` is also a compatible brand in `ftyp`: take the sample entry, after `stsd`.
+    let stsd = at(b"stsd");
+    let avc1 = stsd + find(&bytes[stsd..], b"avc1")[0];
+    let (avcc, st3d, sv3d) = (at(b"avcC"), at(b"st3d"), at(b"sv3d"));
     assert!(
         avc1 < avcc && avcc < st3d && st3d < sv3d,
         "{avc1} {avcc} {st3d} {sv3d}"
