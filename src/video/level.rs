@@ -89,7 +89,7 @@ pub fn check_frame_size(width: u32, height: u32) -> Result<(), VideoError> {
     if width == 0 || height == 0 {
         return Err(refuse("a frame needs at least one pixel".into()));
     }
-    if width % 2 != 0 || height % 2 != 0 {
+    if !width.is_multiple_of(2) || !height.is_multiple_of(2) {
         let fix = |n: u32| format!("{} or {}", n - n % 4, n - n % 4 + 4);
         return Err(refuse(format!(
             "H.264's 4:2:0 colour needs even width and height; render at a width that is a \
