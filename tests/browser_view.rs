@@ -664,32 +664,72 @@ fn video_frame_of(red: u8) -> i64 {
     ((f64::from(red) - 40.0) / 8.0).round() as i64
 }
 
+/// A 24-frame, 12 fps top-bottom MP4 of flat `video_colour` eyes, in `dir`.
 #[cfg(feature = "video")]
-#[test]
-fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
+fn colour_video(dir: &Path) -> PathBuf {
     use omnicloud::video::{VideoOptions, encode_folder};
-    let Some(path) = chromium() else { return };
-    let dir = tempfile::tempdir().unwrap();
-    const FRAMES: usize = 24;
-    for k in 0..FRAMES {
+    for k in 0..24 {
         let frame = RgbImage::from_fn(256, 256, |_, j| Rgb(video_colour(k, (j >= 128) as usize)));
-        frame
-            .save(dir.path().join(format!("frame_{k:06}.png")))
-            .unwrap();
+        frame.save(dir.join(format!("frame_{k:06}.png"))).unwrap();
     }
-    let mp4 = dir.path().join("tour.mp4");
+    let mp4 = dir.join("tour.mp4");
     let options = VideoOptions {
         fps: Some(12.0),
         ..VideoOptions::default()
     };
-    encode_folder(
-        dir.path(),
-        &mp4,
-        &options,
-        &indicatif::ProgressBar::hidden(),
-    )
-    .unwrap();
-    let server = serve(&mp4);
+    encode_folder(dir, &mp4, &options, &indicatif::ProgressBar::hidden()).unwrap();
+    mp4
+}
+
+#[cfg(feature = "video")]
+#[test]
+fn an_mp4_plays_in_vr_with_each_eye_from_its_half() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let server = serve(&colour_video(dir.path()));
+    let chromium = launch(path);
+    let tab = open_viewer(
+        &chromium,
+        &format!("http://{}/", server.addr()),
+        Some(XR_STUB),
+    );
+    tab.wait_for_element("#enter-vr:not([disabled])")
+        .unwrap()
+        .click()
+        .unwrap();
+    js(&tab, "viewer.play()");
+    // Wait until the headset has drawn while the video is a few frames in.
+    js(
+        &tab,
+        "new Promise((resolve) => { const start = window.__xr.frames; const wait = () => \
+         viewer.frame() >= 4 && window.__xr.frames > start + 2 ? resolve() : setTimeout(wait, 20); \
+         wait(); })",
+    );
+    js(&tab, "viewer.pause()");
+    let frames = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => window.__xr.frames)",
+    );
+    assert!(frames.as_u64().unwrap() >= 3);
+    let (w, h) = page_size(&tab);
+    let shot = screenshot(&tab);
+    let left = shot.get_pixel(w / 4, h / 2).0;
+    let right = shot.get_pixel(3 * w / 4, h / 2).0;
+    eprintln!("VR: left eye {left:?}, right eye {right:?}");
+    // Each eye shows its own half of the pair (green-heavy left, blue-heavy right), of a
+    // frame past the first: the video played in the headset's frame loop.
+    assert!(left[1] > 190 && left[2] < 70, "left eye shows {left:?}");
+    assert!(right[1] < 70 && right[2] > 190, "right eye shows {right:?}");
+    assert!(video_frame_of(left[0]) >= 4, "left eye shows {left:?}");
+    assert_eq!(video_frame_of(left[0]), video_frame_of(right[0]));
+}
+
+#[cfg(feature = "video")]
+#[test]
+fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let server = serve(&colour_video(dir.path()));
     let chromium = launch(path);
     let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
     let info = js(&tab, "viewer.info");
