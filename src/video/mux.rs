@@ -136,21 +136,30 @@ impl Mp4Writer {
             size: Some(payload_len as usize),
         })
         .map_err(&mp4_error)?;
-        // Offsets past 4 GiB need `co64`; the moov's size depends only on that choice, so
-        // build it once with placeholder offsets to learn where the samples will start.
-        let wide = 1 << 32;
+        // Offsets past 4 GiB need `co64`. The moov's size depends only on that choice, so a
+        // draft with placeholder offsets tells where the samples start; the last one must
+        // end below 4 GiB for `stco`, else lay out again with `co64`.
+        let wide = 1u64 << 32;
         let table = |start: u64| sample_offsets(start, &sizes);
-        let draft = moov(
-            &track,
-            avcc.clone(),
-            &sizes,
-            &keyframes,
-            &table(0),
-            payload_len >= wide,
-        );
-        let moov_len = encode_box(&draft).map_err(&mp4_error)?.len() as u64;
-        let start = (ftyp_bytes.len() + mdat_header.len()) as u64 + moov_len;
-        let use_co64 = start + payload_len >= wide;
+        let draft_len = |use_co64: bool| -> Result<u64, VideoError> {
+            let draft = moov(
+                &track,
+                avcc.clone(),
+                &sizes,
+                &keyframes,
+                &table(0),
+                use_co64,
+            );
+            Ok(encode_box(&draft).map_err(&mp4_error)?.len() as u64)
+        };
+        let header_len = (ftyp_bytes.len() + mdat_header.len()) as u64;
+        let mut use_co64 = false;
+        let mut moov_len = draft_len(false)?;
+        if header_len + moov_len + payload_len >= wide {
+            use_co64 = true;
+            moov_len = draft_len(true)?;
+        }
+        let start = header_len + moov_len;
         let moov_bytes = encode_box(&moov(
             &track,
             avcc,
@@ -564,4 +573,54 @@ pub fn read_sample(
     let mut buf = vec![0; size as usize];
     file.read_exact(&mut buf)?;
     Ok(buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mp4_atom::Decode;
+
+    fn track() -> TrackInfo {
+        TrackInfo {
+            width: 64,
+            height: 64,
+            fps: 30.0,
+            stereo: StereoLayout::TopBottom,
+        }
+    }
+
+    fn avcc() -> Avcc {
+        Avcc::new(&[0x67, 66, 0xc0, 21], &[0x68, 0xce]).unwrap()
+    }
+
+    /// The index as written, read back through its own bytes.
+    fn round_trip(offsets: &[u64], sizes: &[u32], keyframes: &[u32], co64: bool) -> VideoInfo {
+        let written = moov(&track(), avcc(), sizes, keyframes, offsets, co64);
+        let bytes = encode_box(&written).unwrap();
+        describe(&Moov::decode(&mut bytes.as_slice()).unwrap()).unwrap()
+    }
+
+    #[test]
+    fn samples_past_4_gib_are_indexed_with_co64() {
+        let sizes = [1000, 2000, 3000];
+        let offsets = sample_offsets(u64::from(u32::MAX) - 1500, &sizes);
+        let info = round_trip(&offsets, &sizes, &[1, 3], true);
+        let expected: Vec<(u64, u32)> = offsets.iter().copied().zip(sizes).collect();
+        assert_eq!(info.samples, expected);
+        assert_eq!((info.frames, info.fps), (3, 30.0));
+        assert_eq!(info.stereo(), Some(StereoLayout::TopBottom));
+    }
+
+    #[test]
+    fn the_spherical_boxes_follow_the_layout() {
+        let sizes = [10];
+        let info = round_trip(&[48], &sizes, &[1], false);
+        assert_eq!((info.stereo_mode, info.samples[0]), (Some(1), (48, 10)));
+        let mono = spatial_boxes(StereoLayout::Mono);
+        assert_eq!(mono.st3d.unwrap().stereo_mode, St3d::MONO);
+        assert_eq!(
+            mono.sv3d.unwrap().svhd.unwrap().metadata_source,
+            METADATA_SOURCE
+        );
+    }
 }
