@@ -1,10 +1,11 @@
 //! A folder of numbered frames (`frame_000000.png`, ... as `omnicloud tour` writes them):
 //! which files, in which order, of which size and stereo layout, at which frame rate.
 //!
-//! A `tour.json` next to the frames, when present, gives the frame count (a folder with fewer
-//! frames is an unfinished tour), the frame rate and the stereo layout; it is read leniently:
-//! `fps`, `stereo` (`"ods"`/`"top-bottom"` or `"mono"`) and `frames` (a list or a count), at
-//! the top level or under `settings` or `render`.
+//! A `tour.json` next to the frames (`omnicloud tour` writes one), when present, gives the
+//! frame count (a folder with fewer frames is an unfinished tour), the frame rate and the
+//! stereo layout; it is read leniently: `fps`, `stereo_layout` or `stereo` (`"top-bottom"`/
+//! `"ods"` or `"mono"`) and `frames` (a list or a count), at the top level or under
+//! `settings` or `render`.
 
 use std::path::{Path, PathBuf};
 
@@ -328,14 +329,14 @@ pub fn parse_tour(path: &Path, text: &str) -> Result<TourInfo, VideoError> {
             _ => return Err(bad(format!("fps is {v}: expected a positive number"))),
         },
     };
-    let stereo = match field("stereo") {
+    let stereo = match field("stereo_layout").or_else(|| field("stereo")) {
         None | Some(serde_json::Value::Null) => None,
         Some(v) => match v.as_str().map(str::to_ascii_lowercase).as_deref() {
             Some("ods" | "top-bottom" | "topbottom" | "stereo") => Some(StereoLayout::TopBottom),
             Some("mono" | "none" | "off") => Some(StereoLayout::Mono),
             _ => {
                 return Err(bad(format!(
-                    "stereo is {v}: expected \"ods\", \"top-bottom\" or \"mono\""
+                    "the stereo layout is {v}: expected \"ods\", \"top-bottom\" or \"mono\""
                 )));
             }
         },
@@ -421,7 +422,7 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("lists 3 frames but the folder holds 2"), "{e}");
-        let tour = r#"{"fps": 24, "stereo": "ods", "frames": 2}"#;
+        let tour = r#"{"fps": 24, "stereo_layout": "top-bottom", "frames": 2}"#;
         std::fs::write(dir.path().join(TOUR_FILE), tour).unwrap();
         let e = FrameFolder::open(dir.path(), StereoChoice::Auto)
             .unwrap_err()
