@@ -204,7 +204,7 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let idx = params.batch_first + gid.x;
     let pt = points[idx];
-    let s = pt.position;
+    let s = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = view_of(params);
     let raycast = params.imposter == IMPOSTER_RAYCAST;

@@ -41,7 +41,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let miss = Shaded(false, vec4<f32>(0.0), 0.0, 1.0);
     let index = point & ~FORCE_RAYCAST;
     let pt = points[index];
-    let center = pt.position;
+    let center = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = view_of(params);
     let a = angles_of_position(params.image_size, pos);

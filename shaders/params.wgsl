@@ -37,6 +37,8 @@ struct Params {
     vertex_capacity: u32,
     // Eye index: the statistics record the expand pass counts into.
     eye: u32,
+    // C in the frame of the bound points (zero when they are stored relative to C).
+    camera_offset: vec3<f32>,
 }
 
 fn view_of(p: Params) -> View {

@@ -55,6 +55,32 @@ pub struct Attributes {
     pub intensity: Option<Vec<u16>>,
     /// ASPRS classification code.
     pub classification: Option<Vec<u8>>,
+    /// Return number and number of returns (LAS; PLY when it has both properties).
+    pub returns: Option<Vec<Returns>>,
+}
+
+/// A LiDAR pulse's return number and its number of returns, as the LAS record stores them
+/// (0–15 each; 0 means the file does not say).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct Returns {
+    /// Which return of its pulse the point is (1 = first).
+    pub number: u8,
+    /// How many returns its pulse had.
+    pub of: u8,
+}
+
+impl Returns {
+    /// The first return of its pulse; a point whose file gives no return number (0) counts
+    /// as its pulse's only return.
+    pub fn is_first(self) -> bool {
+        self.number <= 1
+    }
+
+    /// The last return of its pulse (also a pulse's only return, and a point whose file
+    /// gives no number of returns).
+    pub fn is_last(self) -> bool {
+        self.number >= self.of
+    }
 }
 
 /// Points as spheres in a local frame: world = `origin` + position (DESIGN §1).
@@ -124,6 +150,11 @@ impl Scene {
                     .classification
                     .as_ref()
                     .map(|v| v[r.clone()].to_vec()),
+                returns: self
+                    .attributes
+                    .returns
+                    .as_ref()
+                    .map(|v| v[r.clone()].to_vec()),
             },
         }
     }
@@ -146,6 +177,7 @@ impl Scene {
                 rgb: a.rgb.as_deref().map(|v| pick(v, mask)),
                 intensity: a.intensity.as_deref().map(|v| pick(v, mask)),
                 classification: a.classification.as_deref().map(|v| pick(v, mask)),
+                returns: a.returns.as_deref().map(|v| pick(v, mask)),
             },
         }
     }

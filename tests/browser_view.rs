@@ -3,30 +3,22 @@
 //! at a pixel of the screenshot, the colour of that pixel's view direction; an ODS pair's
 //! anaglyph mixes the eyes as `omnicloud render --anaglyph` does; with a stub WebXR runtime,
 //! "Enter VR" asks for an `immersive-vr` session and draws each eye from its own half.
-//!
-//! Chromium runs with `--headless --no-sandbox --disable-gpu --no-first-run
-//! --disable-background-networking --disable-component-update --disable-sync` and a fresh
-//! `--user-data-dir`; WebGL2 comes from SwiftShader (`--use-angle=swiftshader
-//! --enable-unsafe-swiftshader`). Without Chromium the tests skip with a notice, and fail when
-//! `OMNICLOUD_REQUIRE_BROWSER=1` (CI).
+//! Chromium and its flags: `browser_common`. Without Chromium the tests skip with a notice,
+//! and fail when `OMNICLOUD_REQUIRE_BROWSER=1` (CI).
 #![cfg(feature = "web")]
 
-use std::f64::consts::PI;
-use std::ffi::OsStr;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::time::Duration;
+mod browser_common;
 
+use std::f64::consts::PI;
+use std::path::Path;
+
+use browser_common::{XR_STUB, chromium, js, launch, mouse, open_viewer, page_size, screenshot};
+use headless_chrome::Tab;
 use headless_chrome::protocol::cdp::Input;
-use headless_chrome::protocol::cdp::Page;
-use headless_chrome::{Browser, LaunchOptions, Tab};
 use image::{Rgb, RgbImage, RgbaImage};
 use omnicloud::output::AnaglyphMethod;
 use omnicloud::output::anaglyph::anaglyph_pixel;
 use omnicloud::web::{Panorama, Running, ViewServer};
-
-/// The browser window's size; the page gets what the window leaves of it (measured).
-const WINDOW: (u32, u32) = (800, 600);
 
 /// Largest difference allowed per channel between a screenshot pixel and the colour its view
 /// direction has in the panorama (a continuous code; the page shows it filtered between
@@ -38,118 +30,10 @@ const TOLERANCE: f64 = 1.0;
 /// turns a half-code difference in green into up to one in red. Measured worst: 1.00.
 const ANAGLYPH_TOLERANCE: f64 = 1.5;
 
-fn chromium() -> Option<PathBuf> {
-    let path = std::env::var_os("OMNICLOUD_CHROMIUM")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from("/usr/bin/chromium"));
-    if path.exists() {
-        return Some(path);
-    }
-    if std::env::var_os("OMNICLOUD_REQUIRE_BROWSER").is_some_and(|v| v == "1") {
-        panic!(
-            "OMNICLOUD_REQUIRE_BROWSER=1 but {} does not exist (apt-get install chromium)",
-            path.display()
-        );
-    }
-    let _ = writeln!(
-        std::io::stderr().lock(),
-        "SKIPPED: browser test needs Chromium at {} (apt-get install chromium, or set \
-         OMNICLOUD_CHROMIUM); set OMNICLOUD_REQUIRE_BROWSER=1 to make this a failure",
-        path.display()
-    );
-    None
-}
-
-/// A headless Chromium with its own empty profile (removed with it).
-struct Chromium {
-    browser: Browser,
-    _profile: tempfile::TempDir,
-}
-
-fn launch(path: PathBuf) -> Chromium {
-    let profile = tempfile::tempdir().unwrap();
-    // Chromium's own WebXR is switched off so the stub runtime is the only one that answers.
-    let features = "--disable-features=TranslateUI,BlinkGenPropertyTrees,WebXR";
-    let options = LaunchOptions {
-        path: Some(path),
-        headless: true,
-        sandbox: false,
-        enable_gpu: false,
-        window_size: Some(WINDOW),
-        user_data_dir: Some(profile.path().to_path_buf()),
-        idle_browser_timeout: Duration::from_secs(120),
-        ignore_default_args: vec![OsStr::new(
-            "--disable-features=TranslateUI,BlinkGenPropertyTrees",
-        )],
-        args: vec![
-            OsStr::new("--disable-component-update"),
-            OsStr::new("--disable-quic"),
-            OsStr::new("--hide-scrollbars"),
-            OsStr::new("--use-angle=swiftshader"),
-            OsStr::new("--enable-unsafe-swiftshader"),
-            OsStr::new(features),
-        ],
-        ..LaunchOptions::default()
-    };
-    let browser = Browser::new(options).expect("starting Chromium");
-    Chromium {
-        browser,
-        _profile: profile,
-    }
-}
-
 fn serve(path: &Path) -> Running {
     ViewServer::bind("127.0.0.1", 0, Panorama::open(path).unwrap())
         .unwrap()
         .spawn()
-}
-
-/// Evaluates `expr` (a value or a promise) in the page and returns it as JSON.
-fn js(tab: &Tab, expr: &str) -> serde_json::Value {
-    let wrapped =
-        format!("Promise.resolve({expr}).then((v) => JSON.stringify(v === undefined ? null : v))");
-    let result = tab.evaluate(&wrapped, true).expect("evaluate");
-    match result.value {
-        Some(serde_json::Value::String(s)) => serde_json::from_str(&s).unwrap(),
-        _ => panic!("{expr} failed in the page: {:?}", result.description),
-    }
-}
-
-/// Opens the viewer, optionally after installing `init` before any page script, and waits
-/// until its first frame is drawn.
-fn open_viewer(chromium: &Chromium, url: &str, init: Option<&str>) -> std::sync::Arc<Tab> {
-    let tab = chromium.browser.new_tab().unwrap();
-    tab.set_default_timeout(Duration::from_secs(60));
-    if let Some(source) = init {
-        tab.call_method(Page::AddScriptToEvaluateOnNewDocument {
-            source: source.to_owned(),
-            world_name: None,
-            include_command_line_api: None,
-            run_immediately: None,
-        })
-        .unwrap();
-    }
-    tab.navigate_to(url)
-        .unwrap()
-        .wait_until_navigated()
-        .unwrap();
-    let ready = tab
-        .evaluate("viewer.ready.then(() => 'ok', (e) => 'error: ' + e)", true)
-        .unwrap();
-    assert_eq!(
-        ready.value,
-        Some(serde_json::json!("ok")),
-        "the viewer did not start: {:?}",
-        js(&tab, "viewer.error")
-    );
-    tab
-}
-
-fn screenshot(tab: &Tab) -> RgbaImage {
-    let png = tab
-        .capture_screenshot(Page::CaptureScreenshotFormatOption::Png, None, None, true)
-        .unwrap();
-    image::load_from_memory(&png).unwrap().to_rgba8()
 }
 
 /// The code the synthetic panoramas give a longitude or latitude fraction: 0..=255.
@@ -247,15 +131,6 @@ fn set_view(tab: &Tab, yaw: f64, pitch: f64, fov: f64) {
     js(tab, &format!("viewer.setView({yaw}, {pitch}, {fov})"));
 }
 
-/// The page's size in pixels; checks that a CSS pixel is a screenshot pixel.
-fn page_size(tab: &Tab) -> (u32, u32) {
-    let size = js(tab, "[innerWidth, innerHeight, devicePixelRatio]");
-    assert_eq!(size[2], 1, "device pixel ratio");
-    let (w, h) = (size[0].as_u64().unwrap(), size[1].as_u64().unwrap());
-    assert!(w >= 400 && h >= 300, "page of {w}x{h}");
-    (w as u32, h as u32)
-}
-
 fn full_page(tab: &Tab, yaw: f64, pitch: f64, fov: f64) -> View {
     let (w, h) = page_size(tab);
     View {
@@ -300,35 +175,6 @@ fn each_pixel_shows_the_colour_of_its_view_direction() {
         let (worst, at) = worst_difference(&shot, &view, mono_colour(128.0));
         assert!(worst <= TOLERANCE, "{worst} at {at}");
     }
-}
-
-/// A mouse event at (x, y); `held`: the left button is down during (or, for a press, after)
-/// the event.
-fn mouse(tab: &Tab, kind: Input::DispatchMouseEventTypeOption, x: f64, y: f64, held: bool) {
-    use Input::DispatchMouseEventTypeOption as M;
-    let button = match kind {
-        M::MousePressed | M::MouseReleased => Input::MouseButton::Left,
-        _ => Input::MouseButton::None,
-    };
-    tab.call_method(Input::DispatchMouseEvent {
-        Type: kind,
-        x,
-        y,
-        modifiers: None,
-        timestamp: None,
-        button: Some(button),
-        buttons: Some(u32::from(held)),
-        click_count: Some(1),
-        force: None,
-        tangential_pressure: None,
-        tilt_x: None,
-        tilt_y: None,
-        twist: None,
-        delta_x: None,
-        delta_y: None,
-        pointer_Type: None,
-    })
-    .unwrap();
 }
 
 #[test]
@@ -472,63 +318,6 @@ fn an_ods_pair_shows_each_eye_and_a_red_cyan_anaglyph() {
     }
 }
 
-/// A WebXR runtime stand-in: one `immersive-vr` session whose two views (left half, right half
-/// of the canvas, 90° vertical field of view) look `HEAD_YAW` degrees right of the start; it
-/// records what the page asks of it in `window.__xr`.
-const XR_STUB: &str = r#"
-(() => {
-  const HEAD_YAW = 25;
-  const log = { supported: [], requested: [], spaces: [], viewports: [], frames: 0, layers: 0 };
-  window.__xr = log;
-  const half = -HEAD_YAW * Math.PI / 360;
-  const orientation = { x: 0, y: Math.sin(half), z: 0, w: Math.cos(half) };
-  function perspective(fovY, aspect, near, far) {
-    const f = 1 / Math.tan(fovY / 2);
-    return new Float32Array([f / aspect, 0, 0, 0, 0, f, 0, 0,
-      0, 0, (far + near) / (near - far), -1, 0, 0, 2 * far * near / (near - far), 0]);
-  }
-  class XRWebGLLayer {
-    constructor(session, gl) {
-      log.layers += 1;
-      this.framebuffer = null;
-      this.framebufferWidth = gl.drawingBufferWidth;
-      this.framebufferHeight = gl.drawingBufferHeight;
-    }
-    getViewport(view) {
-      const w = this.framebufferWidth / 2;
-      const vp = { x: view.eye === 'left' ? 0 : w, y: 0, width: w, height: this.framebufferHeight };
-      log.viewports.push({ eye: view.eye, x: vp.x, y: vp.y, width: vp.width, height: vp.height });
-      return vp;
-    }
-  }
-  window.XRWebGLLayer = XRWebGLLayer;
-  class Session extends EventTarget {
-    constructor() { super(); this.renderState = {}; this.ended = false; }
-    updateRenderState(state) { Object.assign(this.renderState, state); }
-    async requestReferenceSpace(type) { log.spaces.push(type); return { type }; }
-    requestAnimationFrame(callback) {
-      return requestAnimationFrame((time) => {
-        if (this.ended) return;
-        log.frames += 1;
-        const layer = this.renderState.baseLayer;
-        const aspect = layer.framebufferWidth / 2 / layer.framebufferHeight;
-        const view = (eye) => ({ eye, projectionMatrix: perspective(Math.PI / 2, aspect, 0.1, 1000),
-          transform: { orientation } });
-        const frame = { session: this, getViewerPose: () => ({ views: [view('left'), view('right')] }) };
-        callback(time, frame);
-      });
-    }
-    async end() { this.ended = true; this.dispatchEvent(new Event('end')); }
-  }
-  const xr = {
-    async isSessionSupported(mode) { log.supported.push(mode); return mode === 'immersive-vr'; },
-    async requestSession(mode) { log.requested.push(mode); return new Session(); },
-  };
-  Object.defineProperty(Navigator.prototype, 'xr', { get: () => xr, configurable: true });
-  WebGL2RenderingContext.prototype.makeXRCompatible = async function () {};
-})();
-"#;
-
 #[test]
 fn enter_vr_asks_for_immersive_vr_and_draws_each_eye_from_its_half() {
     let Some(path) = chromium() else { return };
@@ -666,7 +455,7 @@ fn video_frame_of(red: u8) -> i64 {
 
 /// A 24-frame, 12 fps top-bottom MP4 of flat `video_colour` eyes, in `dir`.
 #[cfg(feature = "video")]
-fn colour_video(dir: &Path) -> PathBuf {
+fn colour_video(dir: &Path) -> std::path::PathBuf {
     use omnicloud::video::{VideoOptions, encode_folder};
     for k in 0..24 {
         let frame = RgbImage::from_fn(256, 256, |_, j| Rgb(video_colour(k, (j >= 128) as usize)));

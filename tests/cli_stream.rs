@@ -57,6 +57,61 @@ fn the_sample_streams_through_the_rasterizer_and_says_so() {
     assert_eq!((img.width(), img.height()), (512, 256));
 }
 
+/// `omnicloud render` of the sample at 64 wide with its pipeline cache in `cache`.
+fn render_with_cache(cache: &std::path::Path, png: &std::path::Path) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args(["render", "data/autzen_trim.laz", "--width", "64", "-o"])
+        .arg(png)
+        .env("OMNICLOUD_CACHE_DIR", cache)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_second_process_loads_the_pipeline_cache_and_a_garbage_one_is_rebuilt() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let png = dir.path().join("pano.png");
+    let (ok, stderr) = render_with_cache(&cache, &png);
+    if no_adapter(ok, &stderr) {
+        return;
+    }
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("pipeline cache created"), "{stderr}");
+    let files: Vec<_> = std::fs::read_dir(&cache).unwrap().flatten().collect();
+    assert_eq!(files.len(), 1, "one cache file per adapter");
+    let file = files[0].path();
+    let first = std::fs::read(&file).unwrap();
+
+    let (ok, stderr) = render_with_cache(&cache, &png);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("pipeline cache loaded"), "{stderr}");
+    assert_eq!(
+        std::fs::read(&file).unwrap(),
+        first,
+        "a hit leaves the file as it was"
+    );
+
+    for garbage in [&b"not a cache at all"[..], &first[..first.len() - 3]] {
+        std::fs::write(&file, garbage).unwrap();
+        let (ok, stderr) = render_with_cache(&cache, &png);
+        assert!(ok, "a bad cache must not fail the render: {stderr}");
+        assert!(
+            stderr.contains("warning: ignored the pipeline cache"),
+            "{stderr}"
+        );
+        let (ok, stderr) = render_with_cache(&cache, &png);
+        assert!(
+            ok && stderr.contains("pipeline cache loaded"),
+            "rewritten: {stderr}"
+        );
+    }
+}
+
 #[test]
 fn subsampling_while_streaming_reports_what_it_kept() {
     let dir = tempfile::tempdir().unwrap();

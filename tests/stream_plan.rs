@@ -47,6 +47,7 @@ fn append(all: &mut PointChunk, c: PointChunk) {
     add(&mut all.rgb, c.rgb);
     add(&mut all.intensity, c.intensity);
     add(&mut all.classification, c.classification);
+    add(&mut all.returns, c.returns);
     add(&mut all.radius, c.radius);
 }
 
@@ -60,6 +61,7 @@ fn slice(all: &PointChunk, from: usize, n: usize) -> PointChunk {
         rgb: part(&all.rgb, from..end),
         intensity: part(&all.intensity, from..end),
         classification: part(&all.classification, from..end),
+        returns: part(&all.returns, from..end),
         radius: part(&all.radius, from..end),
     }
 }

@@ -412,3 +412,47 @@ fn a_real_ods_render_survives_encoding() {
     eprintln!("real render PSNR: worst {worst:.2} dB");
     assert!(worst >= MIN_RENDER_PSNR_DB, "{worst}");
 }
+
+#[test]
+fn tour_video_encodes_the_rendered_tour_and_refuses_sizes_it_cannot_encode() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let frames = dir.path().join("walk");
+    let out = dir.path().join("walk.mp4");
+    let tour = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+            .arg("tour")
+            .arg(root.join("data/autzen_trim.laz"))
+            .arg("--path")
+            .arg(root.join("data/tours/autzen_walk.csv"))
+            .arg("-o")
+            .arg(&frames)
+            .args(["--stereo", "ods", "--frames", "4", "--fps", "8"])
+            .args(["--renderer", "raytrace", "--quiet", "--video"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let big = tour(&["--width", "2880"]);
+    let stderr = String::from_utf8_lossy(&big.stderr);
+    assert!(!big.status.success());
+    assert!(stderr.contains("--width 2160 for an ODS pair"), "{stderr}");
+    assert!(
+        !frames.join("frame_000000.png").exists(),
+        "refused before rendering"
+    );
+    let sharded = tour(&["--width", "128", "--shard", "0/2"]);
+    let stderr = String::from_utf8_lossy(&sharded.stderr);
+    assert!(stderr.contains("run `omnicloud video"), "{stderr}");
+
+    let ok = tour(&["--width", "128"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let info = read_video_info(&out).unwrap();
+    assert_eq!((info.frames, info.width, info.height), (4, 128, 128));
+    assert_eq!((info.fps, info.stereo_mode), (8.0, Some(1)));
+}

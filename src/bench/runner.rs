@@ -114,6 +114,7 @@ pub fn run_bench_with(
         let mut times = Vec::with_capacity(config.timed_frames);
         let mut first = None;
         let mut kind = TimingKind::GpuTimestamps;
+        let run = Instant::now();
         for _ in 0..config.timed_frames {
             let (rendered, stats, timing) = rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
             times.push(timing.seconds * 1e3);
@@ -123,6 +124,7 @@ pub fn run_bench_with(
             first.get_or_insert((rendered, stats));
             progress.inc(1);
         }
+        let run_seconds = run.elapsed().as_secs_f64();
         let (rendered, stats) = first.expect("timed_frames > 0");
         let frame_ms = median(times.clone());
         modes.push(ModeResult {
@@ -131,6 +133,7 @@ pub fn run_bench_with(
             frame_ms_min: times.iter().copied().fold(f64::INFINITY, f64::min),
             frame_ms_max: times.iter().copied().fold(0.0, f64::max),
             fps: if frame_ms > 0.0 { 1e3 / frame_ms } else { 0.0 },
+            sustained_fps: config.timed_frames as f64 / run_seconds.max(1e-9),
             timing: kind,
             accuracy: measure(&reference, &rendered)?,
             stats: ModeStats {

@@ -7,7 +7,8 @@ use glam::DVec3;
 
 use crate::bench::BenchMode;
 use crate::io::Up;
-use crate::prepare::{PrepareOptions, RadiusChoice, Subsample};
+use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
+use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
@@ -27,11 +28,9 @@ pub struct Cli {
 // Parsed once per run: the size of the render variant does not matter.
 #[allow(clippy::large_enum_variant)]
 pub enum Command {
-    /// Print a point cloud's format, point count, bounds, attributes and point spacing.
-    Info {
-        /// A LAS, LAZ or PLY file.
-        file: PathBuf,
-    },
+    /// Print a point cloud's header: format, point count, bounds, scale and offset,
+    /// coordinate system, attributes (--stats: a pass over the points for histograms).
+    Info(super::info::InfoArgs),
     /// Render a point cloud to an equirectangular panorama or ODS pair.
     Render(RenderArgs),
     /// Compare a test render against a reference render (EXR files with a Z channel).
@@ -40,6 +39,11 @@ pub enum Command {
     Bench(BenchArgs),
     /// Look around a panorama or a tour folder in the browser (and in VR, through WebXR).
     View(super::view::ViewerArgs),
+    /// Render a camera path through a scan, one frame per pose (resumable, shardable).
+    Tour(super::tour::TourArgs),
+    /// Render a scan live in the browser: pick camera positions on its map, tune IPD and
+    /// pole merging, look around (and in VR, through WebXR).
+    Serve(super::serve::ServeArgs),
     /// Encode a folder of panorama frames (a tour) into an H.264 MP4 that 360 players show
     /// as a sphere, in stereo for ODS frames.
     Video(super::video::VideoArgs),
@@ -81,6 +85,22 @@ pub struct ViewArgs {
     /// Up axis of the file.
     #[arg(long, value_enum, ignore_case = true, default_value = "z")]
     pub up: Up,
+    /// Keep only these classification codes, e.g. 2,6 (ground, buildings).
+    #[arg(long, value_name = "CODES")]
+    pub classes: Option<ClassSet>,
+    /// Drop these classification codes, e.g. 7,18 (low and high noise).
+    #[arg(long, value_name = "CODES")]
+    pub drop_classes: Option<ClassSet>,
+    /// Keep the first or last return of each pulse only.
+    #[arg(long, value_enum, ignore_case = true, default_value = "all")]
+    pub returns: ReturnFilter,
+    /// Keep the points inside this rectangle, in file coordinates (X and Y; X and Z with
+    /// --up y).
+    #[arg(long, value_name = "X0,Y0,X1,Y1", allow_hyphen_values = true)]
+    pub crop: Option<Crop>,
+    /// Keep the points within M metres of the camera, measured horizontally.
+    #[arg(long, value_name = "M", value_parser = parse::distance)]
+    pub max_distance: Option<f64>,
 }
 
 impl ViewArgs {
@@ -111,6 +131,14 @@ impl ViewArgs {
             camera: self.camera,
             up: self.up,
             radius: self.radius,
+            filter: PointFilter {
+                classes: self.classes,
+                drop_classes: self.drop_classes,
+                returns: self.returns,
+                crop: self.crop,
+                max_distance: self.max_distance,
+            },
+            origin: None,
         }
     }
 }
@@ -120,6 +148,10 @@ impl ViewArgs {
 pub struct RenderArgs {
     /// A LAS, LAZ or PLY file.
     pub file: PathBuf,
+    /// More files rendered with the first as one scene (tiles of one survey, same
+    /// coordinate system).
+    #[arg(value_name = "MORE")]
+    pub more_files: Vec<PathBuf>,
     /// Output image: .png (8-bit sRGB), .jpg, .vr.jpg (VR photo, needs --stereo ods) or
     /// .exr (linear RGB + coverage + Z).
     #[arg(
@@ -164,6 +196,11 @@ pub struct RenderArgs {
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Zero of the local frame the renderers work in (file coordinates; default: the camera).
+    /// With it the scan is loaded whole and the camera moves within that frame, as in a tour:
+    /// a tour's frame and `render --origin` at its pose give the same file.
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
+    pub origin: Option<DVec3>,
     /// Memory cap, e.g. 2G or 800M (default: 80% of the available memory). The ray tracer
     /// refuses, before loading, a cloud whose estimated need exceeds it.
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
@@ -172,6 +209,27 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+}
+
+impl RenderArgs {
+    /// Every input file, the first first.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(self.file.clone())
+            .chain(self.more_files.iter().cloned())
+            .collect()
+    }
+
+    /// How the summary names the inputs: the file, or the first and how many more.
+    pub fn inputs_name(&self) -> String {
+        match self.more_files.len() {
+            0 => self.file.display().to_string(),
+            n => format!(
+                "{} (+{n} more file{})",
+                self.file.display(),
+                if n == 1 { "" } else { "s" }
+            ),
+        }
+    }
 }
 
 /// Options of `omnicloud compare`.
@@ -381,6 +439,72 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(e.contains("unlit, phong, normal"), "{e}");
+    }
+
+    #[test]
+    fn render_takes_several_files_and_the_point_filters() {
+        let Command::Render(r) = Cli::try_parse_from([
+            "omnicloud",
+            "render",
+            "a.laz",
+            "b.laz",
+            "c.las",
+            "-o",
+            "x.png",
+            "--classes",
+            "2,6",
+            "--drop-classes",
+            "7,18",
+            "--returns",
+            "LAST",
+            "--crop",
+            "-10,5,20,-5",
+            "--max-distance",
+            "150",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not render")
+        };
+        assert_eq!(
+            r.inputs(),
+            ["a.laz", "b.laz", "c.las"].map(PathBuf::from).to_vec()
+        );
+        assert_eq!(r.inputs_name(), "a.laz (+2 more files)");
+        let f = r.view.prepare_options().filter;
+        assert_eq!(f.classes.map(|c| c.codes()), Some(vec![2, 6]));
+        assert_eq!(f.drop_classes.map(|c| c.codes()), Some(vec![7, 18]));
+        assert_eq!(f.returns, ReturnFilter::Last);
+        let crop = f.crop.unwrap();
+        assert_eq!(
+            (crop.min.x, crop.min.y, crop.max.x, crop.max.y),
+            (-10.0, -5.0, 20.0, 5.0)
+        );
+        assert_eq!(f.max_distance, Some(150.0));
+        for (option, bad, why) in [
+            (
+                "--classes",
+                "2,ground",
+                "'ground' is not a classification code",
+            ),
+            ("--crop", "1,2,3", "four numbers"),
+            ("--max-distance", "0", "above 0 m"),
+        ] {
+            let e =
+                Cli::try_parse_from(["omnicloud", "render", "a.las", "-o", "x.png", option, bad])
+                    .unwrap_err()
+                    .to_string();
+            assert!(e.contains(why), "{option} {bad}: {e}");
+        }
+        let Command::Info(i) =
+            Cli::try_parse_from(["omnicloud", "info", "--stats", "--json", "a.laz", "b.ply"])
+                .unwrap()
+                .command
+        else {
+            panic!("not info")
+        };
+        assert!(i.stats && i.json && i.files.len() == 2);
     }
 
     #[test]

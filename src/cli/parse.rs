@@ -39,6 +39,16 @@ pub fn width(s: &str) -> Result<u32, String> {
     Equirect::check_width(w)
 }
 
+/// A positive, finite distance in metres.
+pub fn distance(s: &str) -> Result<f64, String> {
+    let d = finite(s, "distance in metres")?;
+    if d > 0.0 {
+        Ok(d)
+    } else {
+        Err(format!("the distance must be above 0 m, got {d}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

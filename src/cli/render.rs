@@ -8,10 +8,11 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
-use crate::prepare::{Prepared, prepare, subsample};
+use crate::prepare::{FilterCounts, PrepareOptions, Prepared, prepare_files, subsample};
 use crate::projection::{Camera, Equirect, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
+use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};
 
 use super::args::RenderArgs;
@@ -44,6 +45,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
 
     crate::cli::render_guard::install_interrupt_handler();
+    if !args.more_files.is_empty() {
+        warn_mixed_crs(args, &say)?;
+    }
 
     let settings = RenderSettings {
         image: Equirect::from_width(args.width),
@@ -56,9 +60,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         imposter: args.imposter,
     };
     let render_start = Instant::now();
-    let rendered = match args.renderer {
-        RendererKind::Raytrace => ray_trace(args, &settings, &say)?,
-        RendererKind::Raster => super::render_stream::rasterize(args, &settings, &say)?,
+    let rendered = match (args.origin, args.renderer) {
+        (Some(origin), _) => render_resident(args, origin, &settings, &say)?,
+        (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
+        (None, RendererKind::Raster) => super::render_stream::rasterize(args, &settings, &say)?,
     };
     say(format!("rendered in {:.2?}", render_start.elapsed()));
 
@@ -102,6 +107,48 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// Warns when the input files declare different coordinate systems: their coordinates are
+/// used as they are, so tiles in different systems do not line up.
+fn warn_mixed_crs(args: &RenderArgs, say: &impl Fn(String)) -> Result<()> {
+    let mut seen: Vec<(String, PathBuf)> = Vec::new();
+    for path in args.inputs() {
+        let info = crate::io::read_info(&path)?;
+        let crs = match info.las.and_then(|l| l.crs) {
+            Some(c) => c.to_string(),
+            None => "none declared".to_string(),
+        };
+        if !seen.iter().any(|(c, _)| *c == crs) {
+            seen.push((crs, path));
+        }
+    }
+    if seen.len() > 1 {
+        let list: Vec<String> = seen
+            .iter()
+            .map(|(c, p)| format!("{} ({c})", p.display()))
+            .collect();
+        say(format!(
+            "warning: the files declare different coordinate systems, used as they are: {}",
+            list.join("; ")
+        ));
+    }
+    Ok(())
+}
+
+/// Says what each filter removed, when any filter was asked for.
+pub(super) fn say_filtered(
+    args: &RenderArgs,
+    filtered: &FilterCounts,
+    kept: u64,
+    say: &impl Fn(String),
+) {
+    if !args.view.prepare_options().filter.keeps_all() {
+        say(format!(
+            "filters: {filtered}; {kept} of {} points kept",
+            kept + filtered.total()
+        ));
+    }
+}
+
 /// True when the file name already marks a top-bottom 360° image (`_360_TB`, any case).
 fn names_top_bottom(path: &Path) -> bool {
     path.file_stem()
@@ -121,6 +168,44 @@ fn top_bottom_name(path: &Path) -> PathBuf {
     path.with_file_name(format!("{stem}_360_TB{ext}"))
 }
 
+/// `--origin`: the scan loaded whole around `origin` and rendered as a tour renders each frame
+/// (the camera moves in that frame), so that the two give the same file.
+fn render_resident(
+    args: &RenderArgs,
+    origin: DVec3,
+    settings: &RenderSettings,
+    say: &impl Fn(String),
+) -> Result<Rendered> {
+    if args.subsample.is_some() {
+        bail!("--subsample is not available with --origin (a tour keeps the whole scan)");
+    }
+    crate::cli::render_guard::check_memory(args)?;
+    let options = PrepareOptions {
+        origin: Some(origin),
+        ..args.view.prepare_options()
+    };
+    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
+    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
+    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    let settings = RenderSettings {
+        camera: Camera::new(prepared.camera_world - origin, args.view.yaw),
+        ..*settings
+    };
+    let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
+    say(format!(
+        "{}: camera at ({}, {}, {}) in the frame of origin ({}, {}, {}); {}",
+        args.inputs_name(),
+        prepared.camera_world.x,
+        prepared.camera_world.y,
+        prepared.camera_world.z,
+        origin.x,
+        origin.y,
+        origin.z,
+        resident.describe()
+    ));
+    Ok(resident.render(&settings, &ProgressBar::hidden())?)
+}
+
 /// The ray tracer needs the whole cloud (and its BVH) in memory: load, subsample, trace.
 fn ray_trace(
     args: &RenderArgs,
@@ -133,13 +218,15 @@ fn ray_trace(
         mut scene,
         camera_world,
         report,
+        filtered,
         ..
-    } = prepare(
-        &args.file,
+    } = prepare_files(
+        &args.inputs(),
         &args.view.prepare_options(),
         &ProgressBar::hidden(),
     )?;
-    super::warn_dropped(&args.file, &report, say);
+    super::warn_dropped(Path::new(&args.inputs_name()), &report, say);
+    say_filtered(args, &filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {
         let before = scene.len();
         scene = subsample::apply(&scene, how, &settings.camera, settings.image);
@@ -152,7 +239,7 @@ fn ray_trace(
     }
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}) loaded in {:.2?}",
-        args.file.display(),
+        args.inputs_name(),
         scene.len(),
         match &scene.radii {
             Radii::Uniform(r) => format!("{r:.4} m"),

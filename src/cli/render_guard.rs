@@ -27,7 +27,7 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     let Some((cap, is_default)) = cap(args) else {
         return Ok(());
     };
-    let info = crate::io::open(&args.file)?.info().clone();
+    let info = inputs_info(args)?;
     let estimate = match args.subsample {
         Some(Subsample::Auto) => {
             memory::raytrace_estimate(info.point_count, 0, args.width, args.view.eyes())
@@ -41,6 +41,15 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// The first input's header facts, its point count the sum over every input.
+fn inputs_info(args: &RenderArgs) -> Result<crate::io::FileInfo> {
+    let mut info = crate::io::open(&args.file)?.info().clone();
+    for more in &args.more_files {
+        info.point_count += crate::io::read_info(more)?.point_count;
+    }
+    Ok(info)
+}
+
 /// After `--subsample`, checks the tracer's part for the points actually kept.
 pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Scene) -> Result<()> {
     if args.renderer != RendererKind::Raytrace {
@@ -49,7 +58,7 @@ pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Sce
     let Some((cap, is_default)) = cap(args) else {
         return Ok(());
     };
-    let info = crate::io::open(&args.file)?.info().clone();
+    let info = inputs_info(args)?;
     let estimate = memory::raytrace_estimate(
         info.point_count,
         scene.len() as u64,

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use crate::Rendered;
 use crate::memory;
 use crate::prepare::subsample::{self, Subsample};
-use crate::raster::{ChunkedFrame, Rasterizer};
+use crate::raster::{CacheStatus, ChunkedFrame, Rasterizer};
 use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
@@ -40,7 +40,7 @@ impl ChunkSink for RasterSink<'_> {
     }
 }
 
-/// Streams `args.file` through the GPU rasterizer under `settings` (camera at the origin of
+/// Streams the input files through the GPU rasterizer under `settings` (camera at the origin of
 /// the streamed chunks).
 pub(super) fn rasterize(
     args: &RenderArgs,
@@ -66,18 +66,18 @@ pub(super) fn rasterize(
         ..PlanOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "surveying");
-    let plan = stream::plan(&args.file, &options, &pb)?;
+    let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
     pb.finish_and_clear();
     if plan.dropped > 0 {
         say(format!(
             "warning: dropped {} points with NaN/inf or absurd coordinates from {}",
             plan.dropped,
-            args.file.display()
+            args.inputs_name()
         ));
     }
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
-        args.file.display(),
+        args.inputs_name(),
         plan.declared,
         if plan.keep_file_radii {
             "per point".to_string()
@@ -97,8 +97,17 @@ pub(super) fn rasterize(
 
     // GPU buffers no larger than the file needs.
     let chunk_points = chunk_points.min(plan.declared.max(1) as usize);
+    let setup = Instant::now();
     let rasterizer = Rasterizer::new()?;
     let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;
+    match rasterizer.pipeline_cache() {
+        CacheStatus::Ignored { .. } => say(format!("warning: {}", rasterizer.pipeline_cache())),
+        status => say(format!(
+            "GPU set up in {:.2?}: {} ({status})",
+            setup.elapsed(),
+            rasterizer.adapter_name()
+        )),
+    }
     let mut sink = RasterSink {
         frame,
         subsample: args.subsample,
@@ -107,15 +116,15 @@ pub(super) fn rasterize(
     };
     let pb = progress::bar(args.quiet, plan.declared, "rasterizing");
     let report = stream::stream_file(&plan, chunk_points, &mut sink, &pb)
-        .with_context(|| format!("rendering {}", args.file.display()))?;
+        .with_context(|| format!("rendering {}", args.inputs_name()))?;
     pb.finish_and_clear();
+    super::render::say_filtered(args, &report.filtered, report.drawn, say);
     let drawn = sink.frame.points();
     let (rendered, stats, _) = sink.frame.finish()?;
     say(format!(
-        "streamed {} points in chunks of {chunk_points} ({:.2} M points/s); {stats} ({})",
+        "streamed {} points in chunks of {chunk_points} ({:.2} M points/s); {stats}",
         report.read,
         report.points_per_second() / 1e6,
-        rasterizer.adapter_name()
     ));
     if let Some(how) = args.subsample {
         say(format!(

@@ -64,7 +64,7 @@ pub fn run(args: &ViewerArgs) -> Result<()> {
 }
 
 /// The address a browser on this machine uses.
-fn local_url(addr: SocketAddr) -> String {
+pub(super) fn local_url(addr: SocketAddr) -> String {
     match addr.ip() {
         IpAddr::V4(ip) if ip.is_unspecified() => format!("http://127.0.0.1:{}/", addr.port()),
         IpAddr::V6(ip) if ip.is_unspecified() => format!("http://[::1]:{}/", addr.port()),
@@ -72,7 +72,7 @@ fn local_url(addr: SocketAddr) -> String {
     }
 }
 
-fn warn_exposed(addr: SocketAddr) {
+pub(super) fn warn_exposed(addr: SocketAddr) {
     eprintln!(
         "warning: listening on {addr}: everyone on the network can see the served files \
          while this runs"
@@ -97,7 +97,7 @@ fn lan_address() -> Option<IpAddr> {
     socket.local_addr().ok().map(|a| a.ip())
 }
 
-fn open_browser(url: &str) {
+pub(super) fn open_browser(url: &str) {
     let (program, args): (&str, &[&str]) = if cfg!(target_os = "macos") {
         ("open", &[])
     } else if cfg!(windows) {

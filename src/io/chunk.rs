@@ -1,5 +1,6 @@
 //! Chunks of points as the readers produce them, and the 16-bit colour scaling.
 
+use crate::scene::Returns;
 use glam::DVec3;
 
 /// A run of consecutive points from a file, in file coordinates (f64, not yet re-originated).
@@ -16,6 +17,8 @@ pub struct PointChunk {
     pub intensity: Option<Vec<u16>>,
     /// ASPRS classification code.
     pub classification: Option<Vec<u8>>,
+    /// Return number and number of returns.
+    pub returns: Option<Vec<Returns>>,
     /// Per-point sphere radius (PLY `radius`).
     pub radius: Option<Vec<f32>>,
 }
@@ -105,6 +108,7 @@ pub(crate) struct RawChunk {
     pub(crate) rgb: Option<RawRgb>,
     pub(crate) intensity: Option<Vec<u16>>,
     pub(crate) classification: Option<Vec<u8>>,
+    pub(crate) returns: Option<Vec<Returns>>,
     pub(crate) radius: Option<Vec<f32>>,
 }
 
@@ -129,6 +133,7 @@ impl RawChunk {
             rgb: self.rgb.as_mut().map(|c| c.split_off(at)),
             intensity: self.intensity.as_mut().map(|v| v.split_off(at)),
             classification: self.classification.as_mut().map(|v| v.split_off(at)),
+            returns: self.returns.as_mut().map(|v| v.split_off(at)),
             radius: self.radius.as_mut().map(|v| v.split_off(at)),
         }
     }
@@ -140,6 +145,7 @@ impl RawChunk {
             rgb: self.rgb.map(|c| c.into_u8(scale)),
             intensity: self.intensity,
             classification: self.classification,
+            returns: self.returns,
             radius: self.radius,
         }
     }
@@ -155,6 +161,7 @@ mod tests {
             rgb: Some(RawRgb::Bits16((0..n).map(|i| [i as u16; 3]).collect())),
             intensity: Some((0..n).map(|i| i as u16).collect()),
             classification: None,
+            returns: None,
             radius: None,
         }
     }

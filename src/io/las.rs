@@ -3,8 +3,12 @@
 use super::chunk::{RawChunk, RawRgb};
 use super::error::LoadError;
 use super::guard::guarded;
-use super::info::{AttributesPresent, ColorDepth, FileInfo, Format};
+use super::info::{
+    AttributesPresent, ColorDepth, Crs, FileInfo, Format, GeoKey, LasHeaderInfo, VlrInfo,
+};
+use crate::scene::Returns;
 use glam::DVec3;
+use las::crs::GeoTiffData;
 use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
@@ -92,19 +96,18 @@ fn check_evlr(
     Ok(())
 }
 
-/// Opens a LAS/LAZ file, validating version, point format and, for uncompressed files, that
-/// the declared points fit in the file.
-pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
-    let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
-    let file_len = file
-        .metadata()
-        .map_err(|e| LoadError::from_io(path, e))?
-        .len();
-    let mut read = BufReader::new(file);
-
+/// The raw header, checked: version 1.0–1.4, an extended VLR that fits, and (with
+/// `check_points`) point records that fit in the file and a sound LAZ chunk table. Leaves
+/// `read` at the start of the file.
+fn checked_raw_header(
+    path: &Path,
+    read: &mut BufReader<File>,
+    file_len: u64,
+    check_points: bool,
+) -> Result<las::raw::Header, LoadError> {
     // The raw header gives the byte layout the parsed header hides; check it before the
     // las crate seeks around a file that may be cut short.
-    let raw = las::raw::Header::read_from(&mut read).map_err(|e| header_error(path, e))?;
+    let raw = las::raw::Header::read_from(&mut *read).map_err(|e| header_error(path, e))?;
     let (major, minor) = (raw.version.major, raw.version.minor);
     if major != 1 || minor > 4 {
         return Err(LoadError::UnsupportedLasVersion {
@@ -113,38 +116,193 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
             minor,
         });
     }
-    let compressed = raw.point_data_record_format & 0xC0 != 0;
-    let record_len = u64::from(raw.point_data_record_length);
-    let offset = u64::from(raw.offset_to_point_data);
-    if !compressed && record_len > 0 {
-        let declared = (raw.offset_to_end_of_points() - offset) / record_len;
-        let available = file_len.saturating_sub(offset) / record_len;
-        if declared > available {
-            return Err(LoadError::PointCountExceedsFile {
-                path: path.to_path_buf(),
-                declared,
-                available,
-            });
-        }
+    if check_points
+        && let Some((declared, available)) = records_in_file(&raw, file_len)
+        && declared > available
+    {
+        return Err(LoadError::PointCountExceedsFile {
+            path: path.to_path_buf(),
+            declared,
+            available,
+        });
     }
     if let Some(evlr) = raw.evlr {
-        check_evlr(path, &mut read, file_len, evlr.start_of_first_evlr)?;
+        check_evlr(path, read, file_len, evlr.start_of_first_evlr)?;
     }
-    if compressed {
+    if check_points && raw.point_data_record_format & 0xC0 != 0 {
         let layout = laz_chunks::Layout {
             file_len,
             header_size: u64::from(raw.header_size),
             number_of_vlrs: raw.number_of_variable_length_records,
-            offset_to_point_data: offset,
+            offset_to_point_data: u64::from(raw.offset_to_point_data),
             declared_points: raw
                 .large_file
                 .map_or(0, |l| l.number_of_point_records)
                 .max(u64::from(raw.number_of_point_records)),
         };
-        laz_chunks::check(path, &mut read, &layout)?;
+        laz_chunks::check(path, read, &layout)?;
     }
     read.seek(SeekFrom::Start(0))
         .map_err(|e| LoadError::from_io(path, e))?;
+    Ok(raw)
+}
+
+/// `(declared, whole records the file's bytes hold)` for an uncompressed file; `None` for
+/// LAZ (its compressed size says nothing about its count) or a zero record length.
+fn records_in_file(raw: &las::raw::Header, file_len: u64) -> Option<(u64, u64)> {
+    let compressed = raw.point_data_record_format & 0xC0 != 0;
+    let record_len = u64::from(raw.point_data_record_length);
+    let offset = u64::from(raw.offset_to_point_data);
+    (!compressed && record_len > 0).then(|| {
+        let declared = (raw.offset_to_end_of_points() - offset) / record_len;
+        (declared, file_len.saturating_sub(offset) / record_len)
+    })
+}
+
+fn open_file(path: &Path) -> Result<(BufReader<File>, u64), LoadError> {
+    let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| LoadError::from_io(path, e))?
+        .len();
+    Ok((BufReader::new(file), file_len))
+}
+
+/// Header facts of a LAS/LAZ file from its header and (extended) VLRs alone: the point data
+/// is neither read nor checked, so a file whose points are cut short still gets its facts
+/// ([`FileInfo::records_in_file`] then says how many records it holds).
+pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
+    let (mut read, file_len) = open_file(path)?;
+    let raw = checked_raw_header(path, &mut read, file_len, false)?;
+    let records = records_in_file(&raw, file_len).map(|(_, available)| available);
+    let header = guarded(path, "reading the header", || {
+        las::Header::new(&mut read).map_err(|e| header_error(path, e))
+    })?;
+    let mut info = file_info(path, &header)?;
+    info.records_in_file = records;
+    Ok(info)
+}
+
+/// The [`FileInfo`] of a parsed header.
+fn file_info(path: &Path, header: &las::Header) -> Result<FileInfo, LoadError> {
+    let format = header.point_format();
+    let point_format = format.to_u8().map_err(|e| header_error(path, e))?;
+    let b = header.bounds();
+    let bounds = Some((
+        DVec3::new(b.min.x, b.min.y, b.min.z),
+        DVec3::new(b.max.x, b.max.y, b.max.z),
+    ))
+    .filter(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo.cmple(*hi).all());
+    let t = header.transforms();
+    let points_by_return: Vec<u64> = {
+        let mut v: Vec<u64> = (1..=15)
+            .map(|n| header.number_of_points_by_return(n).unwrap_or(0))
+            .collect();
+        while v.last() == Some(&0) {
+            v.pop();
+        }
+        v
+    };
+    let vlrs = header
+        .vlrs()
+        .iter()
+        .map(|v| (v, false))
+        .chain(header.evlrs().iter().map(|v| (v, true)))
+        .map(|(v, extended)| VlrInfo {
+            user_id: v.user_id.clone(),
+            record_id: v.record_id,
+            description: v.description.clone(),
+            bytes: v.data.len() as u64,
+            extended,
+        })
+        .collect();
+    Ok(FileInfo {
+        path: path.to_path_buf(),
+        format: if format.is_compressed {
+            Format::Laz
+        } else {
+            Format::Las
+        },
+        version: format!("{}.{}", header.version().major, header.version().minor),
+        point_format: Some(point_format),
+        point_count: header.number_of_points(),
+        bounds,
+        attributes: AttributesPresent {
+            rgb: format.has_color,
+            intensity: true,
+            classification: true,
+            returns: true,
+            radius: false,
+        },
+        color_depth: if format.has_color {
+            ColorDepth::Bits16
+        } else {
+            ColorDepth::None
+        },
+        ignored_properties: Vec::new(),
+        records_in_file: None,
+        las: Some(LasHeaderInfo {
+            scale: DVec3::new(t.x.scale, t.y.scale, t.z.scale),
+            offset: DVec3::new(t.x.offset, t.y.offset, t.z.offset),
+            system_identifier: header
+                .system_identifier()
+                .trim_end_matches('\0')
+                .to_string(),
+            generating_software: header
+                .generating_software()
+                .trim_end_matches('\0')
+                .to_string(),
+            creation_date: header.date().map(|d| d.to_string()),
+            file_source_id: header.file_source_id(),
+            record_length: format.len(),
+            points_by_return,
+            vlrs,
+            crs: crs(header),
+        }),
+    })
+}
+
+/// The coordinate system a header's VLRs declare: the WKT VLR when there is one (EPSG codes
+/// it lacks taken from the GeoTIFF keys, when both are present), else the GeoTIFF keys.
+fn crs(header: &las::Header) -> Option<Crs> {
+    let geotiff = geotiff_crs(header);
+    let Some(bytes) = header.get_wkt_crs_bytes() else {
+        return geotiff;
+    };
+    let text = String::from_utf8_lossy(bytes);
+    let mut crs = Crs::from_wkt(text.trim_end_matches('\0'));
+    if let Some(g) = geotiff {
+        crs.epsg = crs.epsg.or(g.epsg);
+        crs.vertical_epsg = crs.vertical_epsg.or(g.vertical_epsg);
+        crs.name = crs.name.or(g.name);
+    }
+    Some(crs)
+}
+
+/// The coordinate system the GeoTIFF keys declare; `None` without them or when they do
+/// not parse.
+fn geotiff_crs(header: &las::Header) -> Option<Crs> {
+    let keys = header.get_geotiff_crs().ok().flatten()?;
+    let key = |id: u16| {
+        keys.entries
+            .iter()
+            .find(|e| e.id == id)
+            .map(|e| match &e.data {
+                GeoTiffData::U16(v) => GeoKey::Code(*v),
+                GeoTiffData::String(s) => GeoKey::Text(s.clone()),
+                GeoTiffData::Doubles(_) => GeoKey::Other,
+            })
+    };
+    Some(Crs::from_geotiff_keys(key))
+}
+
+/// Opens a LAS/LAZ file, validating version, point format and, for uncompressed files, that
+/// the declared points fit in the file.
+pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
+    let (mut read, file_len) = open_file(path)?;
+    let raw = checked_raw_header(path, &mut read, file_len, true)?;
+    let record_len = u64::from(raw.point_data_record_length);
+    let records = records_in_file(&raw, file_len).map(|(_, available)| available);
 
     let reader = guarded(path, "reading the header", || {
         las::Reader::new(read).map_err(|e| header_error(path, e))
@@ -156,38 +314,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
             path: path.to_path_buf(),
         });
     }
-    let format = header.point_format();
-    let point_format = format.to_u8().map_err(|e| header_error(path, e))?;
-    let b = header.bounds();
-    let bounds = Some((
-        DVec3::new(b.min.x, b.min.y, b.min.z),
-        DVec3::new(b.max.x, b.max.y, b.max.z),
-    ))
-    .filter(|(lo, hi)| lo.is_finite() && hi.is_finite() && lo.cmple(*hi).all());
-    let info = FileInfo {
-        path: path.to_path_buf(),
-        format: if format.is_compressed {
-            Format::Laz
-        } else {
-            Format::Las
-        },
-        version: format!("{}.{}", header.version().major, header.version().minor),
-        point_format: Some(point_format),
-        point_count: declared,
-        bounds,
-        attributes: AttributesPresent {
-            rgb: format.has_color,
-            intensity: true,
-            classification: true,
-            radius: false,
-        },
-        color_depth: if format.has_color {
-            ColorDepth::Bits16
-        } else {
-            ColorDepth::None
-        },
-        ignored_properties: Vec::new(),
-    };
+    let mut info = file_info(path, header)?;
+    info.records_in_file = records;
     let buffer = las::PointDataBuilder::new().for_header(header).build();
     Ok((
         info,
@@ -274,6 +402,12 @@ impl LasSource {
             rgb,
             intensity: Some(pd.intensity().collect()),
             classification: Some(pd.classification().collect()),
+            returns: Some(
+                pd.return_number()
+                    .zip(pd.number_of_returns())
+                    .map(|(number, of)| Returns { number, of })
+                    .collect(),
+            ),
             radius: None,
         }))
     }

@@ -8,7 +8,7 @@ use super::open;
 use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Points read per chunk while loading.
 const LOAD_CHUNK: usize = 1 << 16;
@@ -99,6 +99,21 @@ const MAX_COORDINATE: f64 = 1e30;
 /// Widest header bounds (metres) trusted as the origin's source: larger than any real scan.
 pub(crate) const MAX_HEADER_EXTENT: f64 = 1e7;
 
+/// The union of the files' header bounds in world (Z-up) coordinates; `None` when any file
+/// has none.
+pub(crate) fn header_extent(infos: &[FileInfo], up: Up) -> Option<(DVec3, DVec3)> {
+    infos
+        .iter()
+        .map(|i| {
+            i.bounds.map(|(lo, hi)| {
+                let (a, b) = (up.to_world(lo), up.to_world(hi));
+                (a.min(b), a.max(b))
+            })
+        })
+        .reduce(|a, b| a.zip(b).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))))
+        .flatten()
+}
+
 /// A point that survives loading: finite and within [`MAX_COORDINATE`].
 pub(crate) fn usable(p: DVec3) -> bool {
     p.is_finite() && p.abs().max_element() <= MAX_COORDINATE
@@ -129,92 +144,135 @@ pub fn load_scene_with_progress(
     options: &LoadOptions,
     progress: &ProgressBar,
 ) -> Result<(Scene, LoadReport), LoadError> {
-    let mut reader = open(path)?;
-    let info = reader.info().clone();
+    load_files_with_progress(&[path.to_path_buf()], options, progress)
+}
+
+/// Several files read into one [`Scene`], in order, as [`load_scene_with_progress`] reads one:
+/// one origin for all (`options.origin`, else the centre of the union of the headers' bounds
+/// when every file has them and the first points lie inside, else the centre of all points),
+/// one colour scale decided from every point. An attribute some file lacks (colour, a PLY
+/// without classification) is left out for all. The report's `info` is the first file's;
+/// its counts and bounds cover all files.
+///
+/// # Errors
+/// As [`load_scene`], naming the file that failed.
+///
+/// # Panics
+/// When `paths` is empty.
+pub fn load_files_with_progress(
+    paths: &[PathBuf],
+    options: &LoadOptions,
+    progress: &ProgressBar,
+) -> Result<(Scene, LoadReport), LoadError> {
+    assert!(!paths.is_empty(), "load_files_with_progress needs a file");
+    let path = paths[0].as_path();
+    let mut infos = Vec::with_capacity(paths.len());
+    let mut first_reader = None;
+    for p in paths {
+        let reader = open(p)?;
+        infos.push(reader.info().clone());
+        if first_reader.is_none() {
+            first_reader = Some(reader);
+        }
+    }
+    let info = infos[0].clone();
     let up = options.up;
+    let declared: u64 = infos.iter().map(|i| i.point_count).sum();
     // The count is untrusted (LAZ and ascii PLY cannot check it against the file size), so the
     // reservation is also bounded by the file length: real files spend at least about a byte
     // per point, and where one spends less the vectors simply grow.
-    let file_len = std::fs::metadata(path).map_or(0, |m| m.len());
-    let reserve = info.point_count.min(MAX_RESERVE).min(file_len) as usize;
-    progress.set_length(info.point_count);
-    let header_centre = info.bounds.map(|(lo, hi)| {
-        let (a, b) = (up.to_world(lo), up.to_world(hi));
-        (a.min(b), a.max(b))
-    });
+    let file_len: u64 = paths
+        .iter()
+        .map(|p| std::fs::metadata(p).map_or(0, |m| m.len()))
+        .sum();
+    let reserve = declared.min(MAX_RESERVE).min(file_len) as usize;
+    progress.set_length(declared);
+    let header_centre = header_extent(&infos, up);
 
     let mut positions: Option<Positions> = None;
     let mut rgb: Option<ColorAccum> = None;
     let mut intensity = None;
     let mut classification = None;
+    let mut returns = None;
     let mut radius = None;
     let mut points_read = 0u64;
     let mut dropped = 0u64;
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
 
-    while let Some(raw) = reader.next_raw(LOAD_CHUNK)? {
-        let RawChunk {
-            positions: file_positions,
-            rgb: chunk_rgb,
-            intensity: chunk_intensity,
-            classification: chunk_classification,
-            radius: chunk_radius,
-        } = raw;
-        points_read += file_positions.len() as u64;
-        progress.inc(file_positions.len() as u64);
-        let world: Vec<DVec3> = file_positions.into_iter().map(|p| up.to_world(p)).collect();
-        let kept: Vec<bool> = world.iter().map(|p| usable(*p)).collect();
-        dropped += kept.iter().filter(|k| !**k).count() as u64;
+    for p in paths {
+        let mut reader = match first_reader.take() {
+            Some(r) => r,
+            None => open(p)?,
+        };
+        while let Some(raw) = reader.next_raw(LOAD_CHUNK)? {
+            let RawChunk {
+                positions: file_positions,
+                rgb: chunk_rgb,
+                intensity: chunk_intensity,
+                classification: chunk_classification,
+                returns: chunk_returns,
+                radius: chunk_radius,
+            } = raw;
+            points_read += file_positions.len() as u64;
+            progress.inc(file_positions.len() as u64);
+            let world: Vec<DVec3> = file_positions.into_iter().map(|p| up.to_world(p)).collect();
+            let kept: Vec<bool> = world.iter().map(|p| usable(*p)).collect();
+            dropped += kept.iter().filter(|k| !**k).count() as u64;
 
-        let positions = positions.get_or_insert_with(|| {
-            // Header bounds are trusted for the origin only if they are plausible (finite, no
-            // wider than any scan) and the data agrees with them: a corrupt header must not
-            // put the origin where positions overflow f32.
-            let header_origin = header_centre
-                .filter(|(blo, bhi)| {
-                    usable(*blo) && usable(*bhi) && (*bhi - *blo).max_element() <= MAX_HEADER_EXTENT
-                })
-                .filter(|(blo, bhi)| {
-                    let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
-                    world
-                        .iter()
-                        .filter(|p| usable(**p))
-                        .all(|p| p.cmpge(*blo - slack).all() && p.cmple(*bhi + slack).all())
-                })
-                .map(|(blo, bhi)| (blo + bhi) * 0.5);
-            match options.origin.or(header_origin) {
-                Some(origin) => Positions::Local(origin, Vec::with_capacity(reserve)),
-                None => Positions::World(Vec::with_capacity(reserve)),
-            }
-        });
-        for p in world.iter().filter(|p| usable(**p)) {
-            lo = lo.min(*p);
-            hi = hi.max(*p);
-            match positions {
-                Positions::Local(origin, v) => v.push((*p - *origin).as_vec3()),
-                Positions::World(v) => v.push(*p),
-            }
-        }
-
-        match chunk_rgb {
-            Some(RawRgb::Bits8(c)) => {
-                let acc = rgb.get_or_insert_with(|| ColorAccum::Bits8(Vec::with_capacity(reserve)));
-                if let ColorAccum::Bits8(v) = acc {
-                    v.extend(masked(&c, &kept));
+            let positions = positions.get_or_insert_with(|| {
+                // Header bounds are trusted for the origin only if they are plausible (finite, no
+                // wider than any scan) and the data agrees with them: a corrupt header must not
+                // put the origin where positions overflow f32.
+                let header_origin = header_centre
+                    .filter(|(blo, bhi)| {
+                        usable(*blo)
+                            && usable(*bhi)
+                            && (*bhi - *blo).max_element() <= MAX_HEADER_EXTENT
+                    })
+                    .filter(|(blo, bhi)| {
+                        let slack = DVec3::splat(1.0) + (*bhi - *blo) * 0.01;
+                        world
+                            .iter()
+                            .filter(|p| usable(**p))
+                            .all(|p| p.cmpge(*blo - slack).all() && p.cmple(*bhi + slack).all())
+                    })
+                    .map(|(blo, bhi)| (blo + bhi) * 0.5);
+                match options.origin.or(header_origin) {
+                    Some(origin) => Positions::Local(origin, Vec::with_capacity(reserve)),
+                    None => Positions::World(Vec::with_capacity(reserve)),
+                }
+            });
+            for p in world.iter().filter(|p| usable(**p)) {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+                match positions {
+                    Positions::Local(origin, v) => v.push((*p - *origin).as_vec3()),
+                    Positions::World(v) => v.push(*p),
                 }
             }
-            Some(RawRgb::Bits16(c)) => {
-                let acc =
-                    rgb.get_or_insert_with(|| ColorAccum::Bits16(Vec::with_capacity(reserve)));
-                if let ColorAccum::Bits16(v) = acc {
-                    v.extend(masked(&c, &kept));
+
+            match chunk_rgb {
+                Some(RawRgb::Bits8(c)) => {
+                    let acc =
+                        rgb.get_or_insert_with(|| ColorAccum::Bits8(Vec::with_capacity(reserve)));
+                    if let ColorAccum::Bits8(v) = acc {
+                        v.extend(masked(&c, &kept));
+                    }
                 }
+                Some(RawRgb::Bits16(c)) => {
+                    let acc =
+                        rgb.get_or_insert_with(|| ColorAccum::Bits16(Vec::with_capacity(reserve)));
+                    if let ColorAccum::Bits16(v) = acc {
+                        v.extend(masked(&c, &kept));
+                    }
+                }
+                None => {}
             }
-            None => {}
+            extend_masked(&mut intensity, chunk_intensity.as_deref(), &kept);
+            extend_masked(&mut classification, chunk_classification.as_deref(), &kept);
+            extend_masked(&mut returns, chunk_returns.as_deref(), &kept);
+            extend_masked(&mut radius, chunk_radius.as_deref(), &kept);
         }
-        extend_masked(&mut intensity, chunk_intensity.as_deref(), &kept);
-        extend_masked(&mut classification, chunk_classification.as_deref(), &kept);
-        extend_masked(&mut radius, chunk_radius.as_deref(), &kept);
     }
 
     let points_kept = points_read - dropped;
@@ -241,6 +299,19 @@ pub fn load_scene_with_progress(
         }
         None => unreachable!("points_kept > 0 implies a chunk was read"),
     };
+    // An attribute some file lacks covers only part of the points: left out for all.
+    let n = positions.len();
+    fn whole<T>(v: Option<Vec<T>>, n: usize) -> Option<Vec<T>> {
+        v.filter(|v| v.len() == n)
+    }
+    let rgb = rgb.filter(|c| match c {
+        ColorAccum::Bits8(v) => v.len() == n,
+        ColorAccum::Bits16(v) => v.len() == n,
+    });
+    let intensity = whole(intensity, n);
+    let classification = whole(classification, n);
+    let returns = whole(returns, n);
+    let radius = whole(radius, n);
     let (rgb, color_scale) = match rgb {
         None => (None, None),
         Some(ColorAccum::Bits8(v)) => (Some(v), Some(ColorScale::Direct8)),
@@ -259,6 +330,7 @@ pub fn load_scene_with_progress(
             rgb,
             intensity,
             classification,
+            returns,
         },
     };
     let report = LoadReport {

@@ -4,7 +4,9 @@
 //! [`FileInfo`] and returns a [`PointReader`] whose [`PointReader::chunks`] streams the points
 //! in file coordinates (f64) with memory proportional to the chunk size. [`load_scene`] reads a
 //! whole file into a [`crate::Scene`]: coordinates minus one f64 origin, stored as f32
-//! (DESIGN §1).
+//! (DESIGN §1); [`load_files_with_progress`] reads several into one. [`read_info`] reads a
+//! header without touching the points; [`point_stats`] makes one streamed pass for
+//! `info --stats`.
 
 mod chunk;
 mod error;
@@ -13,12 +15,19 @@ mod info;
 mod las;
 mod load;
 mod ply;
+mod stats;
 
 pub use chunk::{ColorScale, PointChunk};
 pub use error::LoadError;
-pub use info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
-pub use load::{LoadOptions, LoadReport, Up, load_scene, load_scene_with_progress};
-pub(crate) use load::{MAX_HEADER_EXTENT, usable};
+pub use info::{
+    AttributesPresent, ColorDepth, Crs, CrsSource, FileInfo, Format, GeoKey, LasHeaderInfo,
+    PlyEncoding, VlrInfo, asprs_class_name,
+};
+pub use load::{
+    LoadOptions, LoadReport, Up, load_files_with_progress, load_scene, load_scene_with_progress,
+};
+pub(crate) use load::{MAX_HEADER_EXTENT, header_extent, usable};
+pub use stats::{PointStats, point_stats};
 
 pub(crate) use chunk::{RawChunk, RawRgb};
 use std::collections::VecDeque;
@@ -137,6 +146,19 @@ pub fn open(path: &Path) -> Result<PointReader, LoadError> {
                 source: Source::Ply(Box::new(source)),
             })
         }
+    }
+}
+
+/// Header facts of a LAS, LAZ or PLY file without reading or checking its point data: fast
+/// on any size, and a file whose points are cut short still gets them (see
+/// [`FileInfo::records_in_file`]). [`open`] is the reader that checks the points fit.
+///
+/// # Errors
+/// Any [`LoadError`] about the file's existence, format or header.
+pub fn read_info(path: &Path) -> Result<FileInfo, LoadError> {
+    match detect(path)? {
+        Kind::Las => las::header_info(path),
+        Kind::Ply => ply::header_info(path),
     }
 }
 

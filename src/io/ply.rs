@@ -3,12 +3,15 @@
 //!
 //! Read from the `vertex` element: `x y z` (any scalar type, read as f64), colour
 //! `red green blue` (`uchar` → 8 bit, `ushort` → 16-bit fields scaled like LAS, `float`/`double`
-//! in 0–1), `intensity` (rounded and clamped to u16), `classification` (clamped to u8) and
-//! `radius` (metres). Every other property (normals, indices, lists) is read past and ignored.
+//! in 0–1), `intensity` (rounded and clamped to u16), `classification` (clamped to u8; also
+//! CloudCompare's `scalar_Classification`), `return_number` with `number_of_returns` (also
+//! `scalar_Return_Number`, `scalar_Number_Of_Returns`) and `radius` (metres). Every other
+//! property (normals, indices, lists) is read past and ignored.
 
 use super::chunk::{RawChunk, RawRgb};
 use super::error::LoadError;
 use super::info::{AttributesPresent, ColorDepth, FileInfo, Format, PlyEncoding};
+use crate::scene::Returns;
 use glam::DVec3;
 use ply_rs_bw::parser::{Parser, Reader};
 use ply_rs_bw::ply::{
@@ -22,7 +25,21 @@ use std::path::{Path, PathBuf};
 const POSITION: [&str; 3] = ["x", "y", "z"];
 const COLOR: [&str; 3] = ["red", "green", "blue"];
 const INTENSITY: &str = "intensity";
-const CLASSIFICATION: &str = "classification";
+const CLASSIFICATION: [&str; 3] = [
+    "classification",
+    "scalar_Classification",
+    "scalar_classification",
+];
+const RETURN_NUMBER: [&str; 3] = [
+    "return_number",
+    "scalar_Return_Number",
+    "scalar_return_number",
+];
+const NUMBER_OF_RETURNS: [&str; 3] = [
+    "number_of_returns",
+    "scalar_Number_Of_Returns",
+    "scalar_number_of_returns",
+];
 const RADIUS: &str = "radius";
 
 /// One vertex as parsed; fields the file lacks stay 0.
@@ -31,6 +48,8 @@ struct PlyVertex {
     rgb: [f64; 3],
     intensity: f64,
     classification: f64,
+    return_number: f64,
+    number_of_returns: f64,
     radius: f64,
 }
 
@@ -56,6 +75,8 @@ impl PropertyAccess for PlyVertex {
             rgb: [0.0; 3],
             intensity: 0.0,
             classification: 0.0,
+            return_number: 0.0,
+            number_of_returns: 0.0,
             radius: 0.0,
         }
     }
@@ -69,7 +90,9 @@ impl PropertyAccess for PlyVertex {
             "green" => &mut self.rgb[1],
             "blue" => &mut self.rgb[2],
             INTENSITY => &mut self.intensity,
-            CLASSIFICATION => &mut self.classification,
+            n if CLASSIFICATION.contains(&n) => &mut self.classification,
+            n if RETURN_NUMBER.contains(&n) => &mut self.return_number,
+            n if NUMBER_OF_RETURNS.contains(&n) => &mut self.number_of_returns,
             RADIUS => &mut self.radius,
             _ => return PropertyAccessResult::Ignored,
         };
@@ -111,6 +134,7 @@ pub(crate) struct PlySource {
     color: Option<ColorKind>,
     has_intensity: bool,
     has_classification: bool,
+    has_returns: bool,
     has_radius: bool,
     declared: u64,
     read: u64,
@@ -153,6 +177,17 @@ fn scalar_type<'a>(def: &'a ElementDef, name: &str) -> Option<Option<&'a ScalarT
 /// Opens a PLY file: parses the header, validates the vertex element, checks (binary files)
 /// that the declared vertices fit in the file, and skips elements stored before `vertex`.
 pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
+    open_with(path, true)
+}
+
+/// Header facts of a PLY file; a binary file whose vertices are cut short still gets them
+/// ([`FileInfo::records_in_file`] says how many it holds).
+pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
+    open_with(path, false).map(|(info, _)| info)
+}
+
+/// [`open`], checking that the declared vertices fit in the file when `check_points`.
+fn open_with(path: &Path, check_points: bool) -> Result<(FileInfo, PlySource), LoadError> {
     let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
     let file_len = file
         .metadata()
@@ -217,10 +252,12 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         .stream_position()
         .map_err(|e| LoadError::from_io(path, e))?;
     let record_len = fixed_record_len(&vertex).filter(|_| encoding != Encoding::Ascii);
+    let mut records_in_file = None;
     if let (Some(record), Some(_)) = (record_len, before_len) {
         let start = vertex_start;
         let available = file_len.saturating_sub(start) / record.max(1);
-        if declared > available {
+        records_in_file = Some(available);
+        if check_points && declared > available {
             return Err(LoadError::PointCountExceedsFile {
                 path: path.to_path_buf(),
                 declared,
@@ -229,6 +266,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         }
     }
 
+    let any_present = |names: &[&str]| names.iter().any(|n| present(n));
+    let has_returns = any_present(&RETURN_NUMBER) && any_present(&NUMBER_OF_RETURNS);
     let ignored_properties = vertex
         .properties
         .iter()
@@ -236,7 +275,11 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         .filter(|name| {
             !(POSITION.contains(&name.as_str())
                 || (color.is_some() && COLOR.contains(&name.as_str()))
-                || [INTENSITY, CLASSIFICATION, RADIUS].contains(&name.as_str()))
+                || [INTENSITY, RADIUS].contains(&name.as_str())
+                || CLASSIFICATION.contains(&name.as_str())
+                || (has_returns
+                    && (RETURN_NUMBER.contains(&name.as_str())
+                        || NUMBER_OF_RETURNS.contains(&name.as_str()))))
         })
         .collect();
     let info = FileInfo {
@@ -253,7 +296,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         attributes: AttributesPresent {
             rgb: color.is_some(),
             intensity: present(INTENSITY),
-            classification: present(CLASSIFICATION),
+            classification: any_present(&CLASSIFICATION),
+            returns: has_returns,
             radius: present(RADIUS),
         },
         color_depth: match color {
@@ -263,6 +307,8 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
             Some(ColorKind::Unit) => ColorDepth::Float,
         },
         ignored_properties,
+        records_in_file,
+        las: None,
     };
     let source = PlySource {
         path: path.to_path_buf(),
@@ -271,6 +317,7 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, PlySource), LoadError> {
         color,
         has_intensity: info.attributes.intensity,
         has_classification: info.attributes.classification,
+        has_returns: info.attributes.returns,
         has_radius: info.attributes.radius,
         vertex,
         encoding,
@@ -494,6 +541,7 @@ impl PlySource {
         let mut rgb16 = Vec::new();
         let mut intensity = Vec::new();
         let mut classification = Vec::new();
+        let mut returns = Vec::new();
         let mut radius = Vec::new();
         for _ in 0..n {
             let v = self.next_vertex()?;
@@ -513,6 +561,12 @@ impl PlySource {
             if self.has_classification {
                 classification.push(v.classification.clamp(0.0, 255.0) as u8);
             }
+            if self.has_returns {
+                returns.push(Returns {
+                    number: v.return_number.clamp(0.0, 15.0) as u8,
+                    of: v.number_of_returns.clamp(0.0, 15.0) as u8,
+                });
+            }
             if self.has_radius {
                 radius.push(v.radius as f32);
             }
@@ -527,6 +581,7 @@ impl PlySource {
             rgb,
             intensity: self.has_intensity.then_some(intensity),
             classification: self.has_classification.then_some(classification),
+            returns: self.has_returns.then_some(returns),
             radius: self.has_radius.then_some(radius),
         }))
     }

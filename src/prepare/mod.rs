@@ -2,6 +2,7 @@
 //! chosen. [`prepare`] is the one path the render command, the stream plan and the benchmark
 //! take; [`subsample`] thins a prepared scene for a given render.
 
+pub mod filter;
 pub mod placement;
 pub mod radius;
 pub mod subsample;
@@ -11,9 +12,10 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
-use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_scene_with_progress};
+use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_files_with_progress};
 use crate::scene::Scene;
 
+pub use filter::{FilterCounts, FilterError, PointFilter};
 pub use radius::{RadiusChoice, RadiusRule};
 pub use subsample::Subsample;
 
@@ -28,12 +30,18 @@ pub struct PrepareOptions {
     /// Sphere radius; `None` = the file's per-point radii when it has them, else auto
     /// ([`radius::apply_choice`]).
     pub radius: Option<RadiusChoice>,
+    /// Which points to keep (classes, returns, crop, distance from the camera).
+    pub filter: PointFilter,
+    /// Zero of the scene's local frame (file coordinates); `None` = the camera position.
+    /// A tour keeps one origin for all its frames and moves the camera within that frame.
+    /// Only [`prepare`] reads it: the stream plan always centres its chunks on the camera.
+    pub origin: Option<DVec3>,
 }
 
-/// A scan ready to render: its local frame centred on the camera.
+/// A scan ready to render: its local frame centred on the camera (or on the given origin).
 #[derive(Debug, Clone)]
 pub struct Prepared {
-    /// The scene, camera at the local origin.
+    /// The scene; its local zero is the camera, or [`PrepareOptions::origin`] when given.
     pub scene: Scene,
     /// The camera's position in file coordinates.
     pub camera_world: DVec3,
@@ -41,6 +49,8 @@ pub struct Prepared {
     pub radii: RadiusRule,
     /// What loading did (points read and dropped, colour scale), for the caller to report.
     pub report: LoadReport,
+    /// Points each filter removed.
+    pub filtered: FilterCounts,
 }
 
 /// Why a scan could not be prepared.
@@ -58,36 +68,89 @@ pub enum PrepareError {
         /// The file.
         path: PathBuf,
     },
+    /// A filter cannot run on a file, or the filters left no point.
+    #[error(transparent)]
+    Filter(#[from] FilterError),
 }
 
-/// Loads `path`, places the camera (given, or automatic) at the local origin and sizes the
-/// spheres by the radius rule. `progress` counts the point records read.
+/// Loads `path`, places the camera (given, or automatic), moves the local zero onto the
+/// camera (or onto [`PrepareOptions::origin`]), applies the filters and sizes the spheres by
+/// the radius rule. `progress` counts the point records read.
 ///
 /// # Errors
-/// A [`LoadError`] (also when no point has usable coordinates), or
-/// [`PrepareError::CameraPlacement`].
+/// A [`LoadError`] (also when no point has usable coordinates),
+/// [`PrepareError::CameraPlacement`], or a [`FilterError`].
 pub fn prepare(
     path: &Path,
     options: &PrepareOptions,
     progress: &ProgressBar,
 ) -> Result<Prepared, PrepareError> {
+    prepare_files(&[path.to_path_buf()], options, progress)
+}
+
+/// [`prepare`] for several files rendered as one scene (tiles of a survey): one origin, one
+/// camera, one radius rule over all their points (see [`crate::io::load_files_with_progress`]).
+/// The crop applies before the camera is placed, the other filters after
+/// ([`filter`]).
+///
+/// # Errors
+/// As [`prepare`], naming the file at fault.
+///
+/// # Panics
+/// When `paths` is empty.
+pub fn prepare_files(
+    paths: &[PathBuf],
+    options: &PrepareOptions,
+    progress: &ProgressBar,
+) -> Result<Prepared, PrepareError> {
+    let mut infos = Vec::with_capacity(paths.len());
+    for p in paths {
+        let info = crate::io::read_info(p)?;
+        options.filter.check(&info)?;
+        infos.push(info);
+    }
+    let (paths, skipped) = filter::files_to_read(paths, &infos, options);
+    if paths.is_empty() {
+        return Err(FilterError::NothingLeft { counts: skipped }.into());
+    }
     let load = LoadOptions {
-        origin: options.camera,
+        origin: options.origin.or(options.camera),
         up: options.up,
         ..LoadOptions::default()
     };
-    let (mut scene, report) = load_scene_with_progress(path, &load, progress)?;
-    let camera_world =
-        placement::center_on_camera(&mut scene, options.camera).ok_or_else(|| {
-            PrepareError::CameraPlacement {
-                path: path.to_path_buf(),
-            }
-        })?;
+    let (scene, report) = load_files_with_progress(&paths, &load, progress)?;
+    let (mut scene, mut filtered) =
+        options
+            .filter
+            .apply(scene, options.up, filter::Stage::BeforeCamera);
+    filtered += skipped;
+    if scene.is_empty() {
+        return Err(FilterError::NothingLeft { counts: filtered }.into());
+    }
+    let placed = match options.origin {
+        // The scene stays in the origin's frame, loaded there once (no second rounding).
+        Some(_) => match options.camera {
+            Some(c) => Some(c),
+            None => placement::auto_camera_position(&scene).map(|p| scene.origin + p),
+        },
+        None => placement::center_on_camera(&mut scene, options.camera),
+    };
+    let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
+        path: paths[0].clone(),
+    })?;
+    let (mut scene, after) = options
+        .filter
+        .apply(scene, options.up, filter::Stage::AfterCamera);
+    filtered += after;
+    if scene.is_empty() {
+        return Err(FilterError::NothingLeft { counts: filtered }.into());
+    }
     let radii = radius::apply_choice(&mut scene, options.radius);
     Ok(Prepared {
         scene,
         camera_world,
         radii,
         report,
+        filtered,
     })
 }

@@ -78,6 +78,18 @@ pub fn auto_camera_position(scene: &Scene) -> Option<DVec3> {
 /// cloud's edges (the centre and extent then come from the file's header). `None` when no
 /// point of the scene lies within `extent` of the centre.
 pub fn ground_camera_position(scene: &Scene, centre: Vec2, extent: f32) -> Option<DVec3> {
+    let ground = ground_height(scene, centre, extent)?;
+    Some(DVec3::new(
+        f64::from(centre.x),
+        f64::from(centre.y),
+        ground + EYE_HEIGHT,
+    ))
+}
+
+/// The ground's height (local frame) under the XY point `centre` of a cloud `extent` metres
+/// wide, estimated as [`auto_camera_position`] describes; `None` when no point lies within
+/// `extent` of it.
+pub fn ground_height(scene: &Scene, centre: Vec2, extent: f32) -> Option<f64> {
     let mut radius = if extent > 0.0 { extent / 64.0 } else { 1.0 };
     let mut cells: HashMap<(i32, i32), Vec<f32>> = HashMap::new();
     loop {
@@ -107,11 +119,7 @@ pub fn ground_camera_position(scene: &Scene, centre: Vec2, extent: f32) -> Optio
     }
     let mid = (grounds.len() - 1) / 2;
     let ground = *grounds.select_nth_unstable_by(mid, f32::total_cmp).1;
-    Some(DVec3::new(
-        f64::from(centre.x),
-        f64::from(centre.y),
-        f64::from(ground) + EYE_HEIGHT,
-    ))
+    Some(f64::from(ground))
 }
 
 #[cfg(test)]

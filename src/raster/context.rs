@@ -12,6 +12,10 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Adapter name and backend, e.g. `llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan)`.
     pub adapter_name: String,
+    /// What the adapter says of itself (driver, vendor, device: the pipeline cache's key).
+    pub adapter_info: wgpu::AdapterInfo,
+    /// True when the device has `PIPELINE_CACHE`.
+    pub pipeline_cache: bool,
     /// Limits granted to the device.
     pub limits: wgpu::Limits,
     /// True when the device has `TIMESTAMP_QUERY`.
@@ -81,6 +85,10 @@ impl GpuContext {
         if int64_atomics {
             required_features |= int64;
         }
+        let pipeline_cache = adapter.features().contains(wgpu::Features::PIPELINE_CACHE);
+        if pipeline_cache {
+            required_features |= wgpu::Features::PIPELINE_CACHE;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("omnicloud raster"),
             required_features,
@@ -111,6 +119,8 @@ impl GpuContext {
             device,
             queue,
             adapter_name,
+            adapter_info: info,
+            pipeline_cache,
             limits,
             timestamps,
             int64_atomics,

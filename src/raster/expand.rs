@@ -73,7 +73,7 @@ pub struct ExpandPipeline {
 
 impl ExpandPipeline {
     /// Compiles the pipeline; `splat` includes the compute splat (needs 64-bit atomics).
-    pub fn new(device: &wgpu::Device, splat: bool) -> Self {
+    pub fn new(device: &wgpu::Device, splat: bool, cache: Option<&wgpu::PipelineCache>) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
@@ -103,7 +103,7 @@ impl ExpandPipeline {
             module: &module,
             entry_point: Some("expand"),
             compilation_options: Default::default(),
-            cache: None,
+            cache,
         });
         ExpandPipeline {
             layout,

@@ -20,8 +20,8 @@ pub struct ImposterPipeline {
 }
 
 impl ImposterPipeline {
-    /// Compiles the pipeline.
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// Compiles the pipeline (through `cache` when given).
+    pub fn new(device: &wgpu::Device, cache: Option<&wgpu::PipelineCache>) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -63,7 +63,7 @@ impl ImposterPipeline {
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,
-            cache: None,
+            cache,
         });
         ImposterPipeline { layout, pipeline }
     }

@@ -15,6 +15,7 @@ mod error;
 mod expand;
 mod imposter;
 mod params;
+pub mod pipeline_cache;
 pub mod probe;
 mod raster_frame;
 mod rasterizer;
@@ -28,6 +29,7 @@ mod upload;
 
 pub use chunked_frame::ChunkedFrame;
 pub use error::RasterError;
+pub use pipeline_cache::CacheStatus;
 pub use raster_frame::RasterFrame;
 pub use rasterizer::Rasterizer;
 pub use stats::RasterStats;

@@ -100,8 +100,14 @@ pub struct Params {
     pub vertex_capacity: u32,
     /// Eye index (the statistics record it counts into).
     pub eye: u32,
-    /// Pads the block to a multiple of 16 bytes.
+    /// Pads `eye` to the 16-byte slot `camera_offset` starts.
     pub pad: [u32; 3],
+    /// The camera centre in the frame of the bound points (zero when they are stored
+    /// relative to it, as chunks drawn once are; a scene uploaded once for many camera
+    /// positions is stored relative to one fixed point).
+    pub camera_offset: [f32; 3],
+    /// Pads the block to a multiple of 16 bytes.
+    pub pad_end: u32,
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -169,6 +175,8 @@ impl Params {
             vertex_capacity,
             eye,
             pad: [0; 3],
+            camera_offset: [0.0; 3],
+            pad_end: 0,
         }
     }
 }
@@ -184,10 +192,10 @@ mod tests {
         let rust = field_offsets!(Params: forward, eye_sign, right, half_ipd, up, splat_limit,
             north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
             light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
-            static_level, batch_count, batch_first, vertex_capacity, eye);
-        // The WGSL struct ends at `eye` and rounds its size up to 16 bytes; Rust pads.
-        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 176));
-        assert_eq!(size_of::<Params>(), 176);
+            static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset);
+        // The WGSL struct ends at `camera_offset` and rounds its size up to 16 bytes; Rust pads.
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 192));
+        assert_eq!(size_of::<Params>(), 192);
 
         let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
         let size = size_of::<GpuPoleMerge>() as u32;

@@ -38,6 +38,7 @@ pub struct RasterFrame<'r> {
     stats: wgpu::Buffer,
     clock: FrameClock,
     batches: u64,
+    camera_offset: [f32; 3],
 }
 
 impl Rasterizer {
@@ -116,6 +117,7 @@ impl Rasterizer {
             stats,
             clock,
             batches: 0,
+            camera_offset: [0.0; 3],
         })
     }
 }
@@ -143,6 +145,14 @@ impl<'r> RasterFrame<'r> {
     /// The rasterizer drawing this frame.
     pub(crate) fn rasterizer(&self) -> &'r Rasterizer {
         self.rasterizer
+    }
+
+    /// Tells the frame that the chunks it will draw hold positions relative to
+    /// `points_origin` (in the frame of the settings' camera centre) rather than to the
+    /// camera centre itself; the shaders subtract the difference.
+    pub(crate) fn set_points_origin(&mut self, points_origin: glam::DVec3) {
+        let offset = self.settings.camera.center - points_origin;
+        self.camera_offset = offset.as_vec3().to_array();
     }
 
     /// Number of views (eyes) drawn.
@@ -195,6 +205,7 @@ impl<'r> RasterFrame<'r> {
                 let count = (chunk.len - first).min(self.sizing.batch_points);
                 let params = Params {
                     splat_limit: self.sizing.splat_limit as f32,
+                    camera_offset: self.camera_offset,
                     ..Params::new(
                         view,
                         &self.settings,
@@ -223,7 +234,10 @@ impl<'r> RasterFrame<'r> {
                 first += count;
             }
             if let Some(bg) = &resolve_bg {
-                let params = Params::new(view, &self.settings, eye as u32, (0, 0), vertex_capacity);
+                let params = Params {
+                    camera_offset: self.camera_offset,
+                    ..Params::new(view, &self.settings, eye as u32, (0, 0), vertex_capacity)
+                };
                 ctx.queue
                     .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
                 let mut encoder = device.create_command_encoder(&Default::default());

@@ -5,6 +5,7 @@ use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandPipeline;
 use super::imposter::ImposterPipeline;
+use super::pipeline_cache::{CacheStatus, PipelineCache};
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::splat::{DEFAULT_SPLAT_LIMIT, ResolvePipeline};
 
@@ -15,20 +16,32 @@ pub struct Rasterizer {
     pub(crate) imposter: ImposterPipeline,
     pub(crate) resolve: ResolvePipeline,
     knobs: Knobs,
+    pipeline_cache: CacheStatus,
 }
 
 impl Rasterizer {
-    /// Creates the device and compiles the pipelines.
+    /// Creates the device and compiles the pipelines, through the on-disk pipeline cache
+    /// ([`super::pipeline_cache`]) when the backend has one.
     pub fn new() -> Result<Self, RasterError> {
         let ctx = GpuContext::new()?;
         let device = &ctx.device;
+        let sources = [
+            super::expand::source(ctx.int64_atomics),
+            super::imposter::source(),
+            super::splat::resolve_source(),
+        ];
+        let sources: Vec<&str> = sources.iter().map(String::as_str).collect();
+        let mut cache =
+            PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &sources);
         let (expand, imposter, resolve) = ctx.scoped("compiling the rasterizer shaders", || {
+            let c = cache.cache.as_ref();
             (
-                ExpandPipeline::new(device, ctx.int64_atomics),
-                ImposterPipeline::new(device),
-                ResolvePipeline::new(device),
+                ExpandPipeline::new(device, ctx.int64_atomics, c),
+                ImposterPipeline::new(device, c),
+                ResolvePipeline::new(device, c),
             )
         })?;
+        cache.save();
         Ok(Rasterizer {
             ctx,
             expand,
@@ -38,6 +51,7 @@ impl Rasterizer {
                 splat_limit: DEFAULT_SPLAT_LIMIT,
                 batch_limit: None,
             },
+            pipeline_cache: cache.status().clone(),
         })
     }
 
@@ -58,6 +72,11 @@ impl Rasterizer {
     /// splat against drawing).
     pub fn can_splat(&self) -> bool {
         self.ctx.int64_atomics
+    }
+
+    /// What the on-disk pipeline cache did when this rasterizer started.
+    pub fn pipeline_cache(&self) -> &CacheStatus {
+        &self.pipeline_cache
     }
 
     /// The adapter's name and backend.

@@ -45,8 +45,8 @@ pub struct ResolvePipeline {
 }
 
 impl ResolvePipeline {
-    /// Compiles the pipeline.
-    pub fn new(device: &wgpu::Device) -> Self {
+    /// Compiles the pipeline (through `cache` when given).
+    pub fn new(device: &wgpu::Device, cache: Option<&wgpu::PipelineCache>) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -84,7 +84,7 @@ impl ResolvePipeline {
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,
-            cache: None,
+            cache,
         });
         ResolvePipeline { layout, pipeline }
     }

@@ -13,10 +13,11 @@ use super::rasterizer::Rasterizer;
 use super::stats::RasterStats;
 use super::timing::FrameTiming;
 
-/// A scene's points and colours on the GPU, relative to one camera centre.
+/// A scene's points and colours on the GPU, relative to one point of the scene's frame (the
+/// camera centre they were uploaded for); any camera centre can render them.
 pub struct UploadedScene {
     chunks: Vec<GpuChunk>,
-    camera_center: glam::DVec3,
+    points_origin: glam::DVec3,
     color: ColorMode,
     points: u64,
 }
@@ -47,7 +48,8 @@ impl Rasterizer {
     }
 
     /// Uploads `scene` (positions relative to `settings.camera.center`, colours under
-    /// `settings.color`) for repeated rendering with [`Rasterizer::render_uploaded`].
+    /// `settings.color`) for repeated rendering with [`Rasterizer::render_uploaded`], from
+    /// that camera centre or any other: a tour uploads once and moves the camera.
     pub fn upload(
         &self,
         scene: &Scene,
@@ -69,26 +71,31 @@ impl Rasterizer {
         }
         Ok(UploadedScene {
             chunks,
-            camera_center: c,
+            points_origin: c,
             color: settings.color,
             points: scene.len() as u64,
         })
     }
 
-    /// Renders an uploaded scene; also returns the time the expand and draw work took.
+    /// Renders an uploaded scene; also returns the time the expand and draw work took. The
+    /// camera may stand anywhere in the scene's frame: positions stay on the GPU, relative to
+    /// the centre they were uploaded for, and the shaders subtract the camera's offset from it
+    /// (in f32: positions far from that centre lose precision as f32 does, about 1e-7 of
+    /// their distance).
     pub fn render_uploaded(
         &self,
         uploaded: &UploadedScene,
         settings: &RenderSettings,
         progress: &ProgressBar,
     ) -> Result<(Rendered, RasterStats, FrameTiming), RasterError> {
-        if uploaded.camera_center != settings.camera.center || uploaded.color != settings.color {
+        if uploaded.color != settings.color {
             return Err(RasterError::Settings(
-                "the scene was uploaded for another camera centre or colour mode".into(),
+                "the scene was uploaded for another colour mode".into(),
             ));
         }
         let largest = uploaded.chunks.iter().map(|c| c.len as u64).max();
         let mut frame = self.begin_frame(settings, largest.unwrap_or(1))?;
+        frame.set_points_origin(uploaded.points_origin);
         progress.set_length(uploaded.points * frame.eyes() as u64);
         for chunk in &uploaded.chunks {
             frame.draw(chunk, progress)?;

@@ -14,9 +14,11 @@ mod error;
 pub mod plan;
 
 pub use error::{SinkError, StreamError};
-pub use plan::{PlanOptions, SURVEY_POINTS, StreamPlan, plan};
+pub use plan::{PlanOptions, SURVEY_POINTS, StreamPlan, plan, plan_files};
 
 use crate::io::{self, LoadError, PointChunk, Up};
+use crate::prepare::filter::Stage;
+use crate::prepare::{FilterCounts, FilterError, PrepareError};
 use crate::scene::{Attributes, Radii, Scene};
 use glam::DVec3;
 use indicatif::ProgressBar;
@@ -51,6 +53,8 @@ pub struct StreamReport {
     pub drawn: u64,
     /// Points dropped for NaN/inf/absurd coordinates.
     pub dropped: u64,
+    /// Points each filter removed (not counted in `drawn` nor `dropped`).
+    pub filtered: FilterCounts,
     /// Camera world position used.
     pub camera: DVec3,
     /// Radius used for points without their own.
@@ -96,6 +100,7 @@ pub fn chunk_scene(
             rgb: chunk.rgb,
             intensity: chunk.intensity,
             classification: chunk.classification,
+            returns: chunk.returns,
         },
     };
     if dropped == 0 {
@@ -125,6 +130,7 @@ pub fn stream_file(
         read: 0,
         drawn: 0,
         dropped: 0,
+        filtered: FilterCounts::default(),
         camera: plan.camera,
         radius: plan.radius,
         seconds: 0.0,
@@ -150,6 +156,7 @@ fn draw_whole(
     progress.inc(plan.dropped);
     report.read = plan.surveyed;
     report.dropped = plan.dropped;
+    report.filtered = plan.filtered;
     for start in (0..whole.len()).step_by(chunk_points) {
         let end = (start + chunk_points).min(whole.len());
         let chunk = whole.range(start..end);
@@ -169,6 +176,7 @@ fn draw_decoded(
     report: &mut StreamReport,
 ) -> Result<(), StreamError> {
     progress.set_length(plan.declared);
+    report.filtered = plan.skipped;
     let worker_failed = |detail: String| StreamError::Worker {
         path: plan.path.clone(),
         detail,
@@ -178,18 +186,21 @@ fn draw_decoded(
     let worker = std::thread::Builder::new()
         .name("omnicloud-decode".into())
         .spawn({
-            let (path, scale) = (plan.path.clone(), plan.color_scale);
+            let (paths, scale) = (plan.paths.clone(), plan.color_scale);
             move || {
-                let reader = match io::open(&path) {
-                    Ok(r) => r,
-                    Err(e) => {
-                        let _ = tx.send(Err(e));
-                        return;
-                    }
-                };
-                for chunk in reader.chunks_with_scale(chunk_points, scale) {
-                    if tx.send(chunk).is_err() {
-                        break; // the renderer stopped
+                for path in paths {
+                    let reader = match io::open(&path) {
+                        Ok(r) => r,
+                        Err(e) => {
+                            let _ = tx.send(Err(e));
+                            return;
+                        }
+                    };
+                    for chunk in reader.chunks_with_scale(chunk_points, scale) {
+                        let failed = chunk.is_err();
+                        if tx.send(chunk).is_err() || failed {
+                            return; // the renderer stopped, or this file failed
+                        }
                     }
                 }
             }
@@ -201,6 +212,8 @@ fn draw_decoded(
         progress.inc(chunk.len() as u64);
         let (scene, dropped) = plan.chunk_scene(chunk);
         report.dropped += dropped;
+        let (scene, filtered) = plan.filter.apply(scene, plan.up, Stage::All);
+        report.filtered += filtered;
         report.drawn += scene.len() as u64;
         if !scene.is_empty() {
             sink.draw(&scene)?;
@@ -209,6 +222,12 @@ fn draw_decoded(
     worker
         .join()
         .map_err(|_| worker_failed("it panicked".into()))?;
+    if report.drawn == 0 && report.filtered.total() > 0 {
+        return Err(PrepareError::from(FilterError::NothingLeft {
+            counts: report.filtered,
+        })
+        .into());
+    }
     if report.drawn == 0 {
         return Err(if report.read == 0 {
             LoadError::NoPoints {

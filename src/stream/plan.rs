@@ -9,12 +9,20 @@
 //! median spacing (auto radius) measures the real local density, not a thinned one; spread
 //! so the sample covers the file's whole extent. The camera's XY centre comes from the
 //! header bounds when the format has trustworthy ones (the sample may miss the edges).
+//!
+//! Several files ([`plan_files`]) are planned as one cloud: their declared counts add up for
+//! the choice between reading whole and surveying, the survey budget is shared in proportion
+//! to each file's count, and the header extent is the union of theirs.
 
 use super::StreamError;
 use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
-use crate::prepare::{PrepareError, PrepareOptions, Prepared, placement, prepare, radius};
+use crate::prepare::filter::{Stage, files_to_read};
+use crate::prepare::{
+    FilterCounts, FilterError, PointFilter, PrepareError, PrepareOptions, Prepared, placement,
+    prepare_files, radius,
+};
 use crate::render::{ColorMode, ColorRule};
-use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
+use crate::scene::{Attributes, Radii, Returns, Scene, extend_masked, masked};
 use glam::DVec3;
 use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
@@ -56,9 +64,11 @@ impl Default for PlanOptions {
 /// Everything a stream needs decided before its first chunk.
 #[derive(Debug, Clone)]
 pub struct StreamPlan {
-    /// The file.
+    /// The (first) file.
     pub path: PathBuf,
-    /// Point count from the header.
+    /// Every file, streamed in this order.
+    pub paths: Vec<PathBuf>,
+    /// Point count from the header (the sum over all files).
     pub declared: u64,
     /// Up axis of the file.
     pub up: Up,
@@ -79,6 +89,13 @@ pub struct StreamPlan {
     pub whole: Option<Scene>,
     /// Unusable points (NaN/inf/absurd coordinates) the survey saw.
     pub dropped: u64,
+    /// The filters, applied to each streamed chunk.
+    pub filter: PointFilter,
+    /// Points each filter removed from `whole`, files skipped included (only the skipped
+    /// files' when the files are streamed: the stream counts the rest).
+    pub filtered: FilterCounts,
+    /// What the files skipped unread ([`crate::prepare::filter::files_to_read`]) count for.
+    pub skipped: FilterCounts,
 }
 
 impl StreamPlan {
@@ -106,19 +123,53 @@ pub fn plan(
     options: &PlanOptions,
     progress: &ProgressBar,
 ) -> Result<StreamPlan, StreamError> {
-    let reader = io::open(path)?;
-    let declared = reader.info().point_count;
-    if declared <= options.survey_points as u64 {
-        drop(reader);
-        plan_whole(path, declared, options, progress)
-    } else {
-        plan_sampled(path, reader, options, progress)
+    plan_files(&[path.to_path_buf()], options, progress)
+}
+
+/// [`plan`] for several files streamed as one scene (see the module docs).
+///
+/// # Errors
+/// As [`plan`], naming the file at fault; a filter whose attribute a file lacks.
+///
+/// # Panics
+/// When `paths` is empty.
+pub fn plan_files(
+    paths: &[PathBuf],
+    options: &PlanOptions,
+    progress: &ProgressBar,
+) -> Result<StreamPlan, StreamError> {
+    let mut infos = Vec::with_capacity(paths.len());
+    for p in paths {
+        let info = io::open(p)?.info().clone();
+        options
+            .prepare
+            .filter
+            .check(&info)
+            .map_err(PrepareError::from)?;
+        infos.push(info);
     }
+    let (read, skipped) = files_to_read(paths, &infos, &options.prepare);
+    if read.is_empty() {
+        return Err(PrepareError::from(FilterError::NothingLeft { counts: skipped }).into());
+    }
+    let infos: Vec<io::FileInfo> = infos
+        .into_iter()
+        .filter(|i| read.contains(&i.path))
+        .collect();
+    let declared = infos.iter().map(|i| i.point_count).sum();
+    let mut plan = if declared <= options.survey_points as u64 {
+        plan_whole(&read, declared, options, progress)?
+    } else {
+        plan_sampled(&read, &infos, options, progress)?
+    };
+    plan.filtered += skipped;
+    plan.skipped = skipped;
+    Ok(plan)
 }
 
 /// The whole file read as the in-core path reads it.
 fn plan_whole(
-    path: &Path,
+    paths: &[PathBuf],
     declared: u64,
     options: &PlanOptions,
     progress: &ProgressBar,
@@ -128,10 +179,12 @@ fn plan_whole(
         camera_world,
         radii,
         report,
-    } = prepare(path, &options.prepare, progress)?;
+        filtered,
+    } = prepare_files(paths, &options.prepare, progress)?;
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
-        path: path.to_path_buf(),
+        path: paths[0].clone(),
+        paths: paths.to_vec(),
         declared,
         up: options.prepare.up,
         camera: camera_world,
@@ -142,12 +195,15 @@ fn plan_whole(
         surveyed: report.points_read,
         whole: Some(scene),
         dropped: report.dropped_nonfinite,
+        filter: options.prepare.filter,
+        filtered,
+        skipped: FilterCounts::default(),
     })
 }
 
 /// `(first point, points)` of the survey blocks: evenly spaced, centred in equal segments of
 /// the file, ascending and disjoint when `declared > survey_points`.
-fn survey_blocks(declared: u64, survey_points: usize) -> Vec<(u64, u64)> {
+pub fn survey_blocks(declared: u64, survey_points: usize) -> Vec<(u64, u64)> {
     let survey_points = survey_points.max(1);
     let count = (survey_points / MIN_BLOCK_POINTS).clamp(1, SURVEY_BLOCKS) as u64;
     let len = (survey_points as u64 / count).min(declared);
@@ -166,6 +222,7 @@ struct Sample {
     rgb: Option<RawRgb>,
     intensity: Option<Vec<u16>>,
     classification: Option<Vec<u8>>,
+    returns: Option<Vec<Returns>>,
     radius: Option<Vec<f32>>,
     read: u64,
     dropped: u64,
@@ -173,10 +230,20 @@ struct Sample {
 
 impl Sample {
     fn push(&mut self, raw: RawChunk, up: Up) {
+        self.push_where(raw, up, &|_| true);
+    }
+
+    /// [`Sample::push`], keeping only the usable points `inside` accepts (world coordinates).
+    fn push_where(&mut self, raw: RawChunk, up: Up, inside: &dyn Fn(DVec3) -> bool) {
         self.read += raw.positions.len() as u64;
         let world: Vec<DVec3> = raw.positions.iter().map(|p| up.to_world(*p)).collect();
-        let kept: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
-        self.dropped += kept.iter().filter(|k| !**k).count() as u64;
+        let usable: Vec<bool> = world.iter().map(|p| io::usable(*p)).collect();
+        self.dropped += usable.iter().filter(|k| !**k).count() as u64;
+        let kept: Vec<bool> = world
+            .iter()
+            .zip(&usable)
+            .map(|(p, u)| *u && inside(*p))
+            .collect();
         self.world.extend(masked(&world, &kept));
         match (raw.rgb, &mut self.rgb) {
             (Some(RawRgb::Bits8(c)), Some(RawRgb::Bits8(acc))) => acc.extend(masked(&c, &kept)),
@@ -196,7 +263,54 @@ impl Sample {
             raw.classification.as_deref(),
             &kept,
         );
+        extend_masked(&mut self.returns, raw.returns.as_deref(), &kept);
         extend_masked(&mut self.radius, raw.radius.as_deref(), &kept);
+    }
+
+    /// Appends another file's sample.
+    fn append(&mut self, other: Sample) {
+        fn join<T>(a: &mut Option<Vec<T>>, b: Option<Vec<T>>) {
+            match (a.as_mut(), b) {
+                (Some(a), Some(b)) => a.extend(b),
+                (None, Some(b)) => *a = Some(b),
+                _ => {}
+            }
+        }
+        self.world.extend(other.world);
+        match (&mut self.rgb, other.rgb) {
+            (Some(RawRgb::Bits8(a)), Some(RawRgb::Bits8(b))) => a.extend(b),
+            (Some(RawRgb::Bits16(a)), Some(RawRgb::Bits16(b))) => a.extend(b),
+            (a @ None, b) => *a = b,
+            _ => {}
+        }
+        join(&mut self.intensity, other.intensity);
+        join(&mut self.classification, other.classification);
+        join(&mut self.returns, other.returns);
+        join(&mut self.radius, other.radius);
+        self.read += other.read;
+        self.dropped += other.dropped;
+    }
+
+    /// Leaves out attributes that do not cover every point (some file lacks them).
+    fn drop_partial_attributes(&mut self) {
+        fn whole<T>(v: &mut Option<Vec<T>>, n: usize) {
+            if v.as_ref().is_some_and(|v| v.len() != n) {
+                *v = None;
+            }
+        }
+        let n = self.world.len();
+        let rgb_len = match &self.rgb {
+            Some(RawRgb::Bits8(v)) => v.len(),
+            Some(RawRgb::Bits16(v)) => v.len(),
+            None => n,
+        };
+        if rgb_len != n {
+            self.rgb = None;
+        }
+        whole(&mut self.intensity, n);
+        whole(&mut self.classification, n);
+        whole(&mut self.returns, n);
+        whole(&mut self.radius, n);
     }
 }
 
@@ -246,19 +360,67 @@ fn survey(
     Ok(sample)
 }
 
-/// A large file planned from its survey blocks.
+/// Reads the files in order and keeps the usable points `inside` accepts, up to `budget` of
+/// them: the survey of a region the evenly spaced blocks may miss.
+fn survey_inside(
+    paths: &[PathBuf],
+    up: Up,
+    budget: usize,
+    progress: &ProgressBar,
+    inside: &dyn Fn(DVec3) -> bool,
+) -> Result<Sample, LoadError> {
+    let mut sample = Sample::default();
+    for path in paths {
+        let mut reader = io::open(path)?;
+        progress.inc_length(reader.info().point_count);
+        while let Some(raw) = reader.next_raw(READ_POINTS)? {
+            progress.inc(raw.positions.len() as u64);
+            sample.push_where(raw, up, inside);
+            if sample.world.len() >= budget {
+                return Ok(sample);
+            }
+        }
+    }
+    Ok(sample)
+}
+
+/// Large files planned from their survey blocks.
 fn plan_sampled(
-    path: &Path,
-    reader: PointReader,
+    paths: &[PathBuf],
+    infos: &[io::FileInfo],
     options: &PlanOptions,
     progress: &ProgressBar,
 ) -> Result<StreamPlan, StreamError> {
-    let info = reader.info().clone();
-    let declared = info.point_count;
+    let path = paths[0].as_path();
+    let declared: u64 = infos.iter().map(|i| i.point_count).sum();
     let up = options.prepare.up;
-    let blocks = survey_blocks(declared, options.survey_points);
-    progress.set_length(blocks.iter().map(|b| b.1).sum());
-    let sample = survey(path, reader, &blocks, up, progress, true)?;
+    let budget = |n: u64| {
+        ((options.survey_points as u128 * n as u128 / declared.max(1) as u128) as usize).max(1)
+    };
+    let blocks: Vec<Vec<(u64, u64)>> = infos
+        .iter()
+        .map(|i| survey_blocks(i.point_count, budget(i.point_count)))
+        .collect();
+    progress.set_length(blocks.iter().flatten().map(|b| b.1).sum());
+    let mut sample = Sample::default();
+    for (p, blocks) in paths.iter().zip(&blocks) {
+        let reader = io::open(p)?;
+        sample.append(survey(p, reader, blocks, up, progress, true)?);
+    }
+    // A small crop may miss every survey block: survey the points inside it instead.
+    if let Some(crop) = options.prepare.filter.crop {
+        let inside = sample
+            .world
+            .iter()
+            .filter(|w| crop.contains(**w, up))
+            .count();
+        if inside < MIN_BLOCK_POINTS {
+            sample = survey_inside(paths, up, options.survey_points, progress, &|w| {
+                crop.contains(w, up)
+            })?;
+        }
+    }
+    sample.drop_partial_attributes();
     if sample.world.is_empty() {
         return Err(if sample.read == 0 {
             LoadError::NoPoints {
@@ -280,12 +442,7 @@ fn plan_sampled(
         });
     // Header bounds are trusted as the cloud's extent only if plausible and the sample lies
     // inside them (load_scene's test for its origin).
-    let header = info
-        .bounds
-        .map(|(a, b)| {
-            let (a, b) = (up.to_world(a), up.to_world(b));
-            (a.min(b), a.max(b))
-        })
+    let header = io::header_extent(infos, up)
         .filter(|(blo, bhi)| {
             io::usable(*blo)
                 && io::usable(*bhi)
@@ -297,6 +454,16 @@ fn plan_sampled(
         });
     let (extent_lo, extent_hi) = header.unwrap_or((lo, hi));
     let origin = (extent_lo + extent_hi) * 0.5;
+    // The camera stands in the cropped part of the extent.
+    let (extent_lo, extent_hi) = match options.prepare.filter.crop {
+        Some(crop) => {
+            let (a, b) = crop.world_rect(up);
+            let lo = extent_lo.truncate().max(a).min(b);
+            let hi = extent_hi.truncate().min(b).max(lo);
+            (lo.extend(extent_lo.z), hi.extend(extent_hi.z))
+        }
+        None => (extent_lo, extent_hi),
+    };
 
     let color_scale = sample
         .rgb
@@ -304,7 +471,7 @@ fn plan_sampled(
         .and_then(RawRgb::max_16)
         .map_or(ColorScale::Direct8, ColorScale::detect_16);
     let radii = Radii::from_file(sample.radius, LoadOptions::default().default_radius);
-    let mut scene = Scene {
+    let scene = Scene {
         origin,
         positions: sample
             .world
@@ -316,8 +483,18 @@ fn plan_sampled(
             rgb: sample.rgb.map(|c| c.into_u8(color_scale)),
             intensity: sample.intensity,
             classification: sample.classification,
+            returns: sample.returns,
         },
     };
+    let filter = options.prepare.filter;
+    // Counts on the survey only say why nothing is left; the stream counts the real ones.
+    let (mut scene, sample_counts) = filter.apply(scene, up, Stage::BeforeCamera);
+    if scene.is_empty() {
+        return Err(PrepareError::from(FilterError::NothingLeft {
+            counts: sample_counts,
+        })
+        .into());
+    }
     let camera = match options.prepare.camera {
         Some(c) => c,
         None => {
@@ -334,10 +511,17 @@ fn plan_sampled(
         }
     };
     scene.recenter(camera);
+    let (mut scene, after) = filter.apply(scene, up, Stage::AfterCamera);
+    if scene.is_empty() {
+        let mut counts = sample_counts;
+        counts += after;
+        return Err(PrepareError::from(FilterError::NothingLeft { counts }).into());
+    }
     let radii = radius::apply_choice(&mut scene, options.prepare.radius);
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
+        paths: paths.to_vec(),
         declared,
         up,
         camera,
@@ -348,13 +532,16 @@ fn plan_sampled(
         surveyed: sample.read,
         whole: None,
         dropped: sample.dropped,
+        filter,
+        filtered: FilterCounts::default(),
+        skipped: FilterCounts::default(),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::prepare::RadiusChoice;
+    use crate::prepare::{RadiusChoice, prepare};
     use crate::render::base_colors;
 
     fn shared(rel: &str) -> PathBuf {
@@ -421,6 +608,7 @@ mod tests {
                 camera,
                 up: Up::Z,
                 radius,
+                ..PrepareOptions::default()
             };
             let options = PlanOptions {
                 prepare: prepare_options,

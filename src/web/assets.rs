@@ -5,3 +5,11 @@ pub const INDEX_HTML: &str = include_str!("assets/index.html");
 
 /// WebGL2 rendering, mouse and keyboard controls, frame playback and WebXR.
 pub const VIEWER_JS: &str = include_str!("assets/viewer.js");
+
+/// `serve`'s page: the viewer's canvas and controls, the map and the live sliders.
+#[cfg(feature = "gpu")]
+pub const SERVE_HTML: &str = include_str!("assets/serve.html");
+
+/// `serve`'s page logic: map clicks and sliders to render requests, renders to the viewer.
+#[cfg(feature = "gpu")]
+pub const SERVE_JS: &str = include_str!("assets/serve.js");

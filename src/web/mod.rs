@@ -1,5 +1,6 @@
 //! `omnicloud view`: a local web server that shows a panorama (mono or ODS top-bottom) or a
-//! tour folder of frames in the browser, and in a headset through WebXR.
+//! tour folder of frames in the browser, and in a headset through WebXR; with the `gpu`
+//! feature, `omnicloud serve` ([`serve`]): a scan rendered live for the same page code.
 //!
 //! The page samples the equirect image per pixel along each view ray (DESIGN.md section 2:
 //! longitude 0 at the image centre, +90° to the right, latitude +90° on the top row), so a
@@ -11,6 +12,8 @@ mod host;
 pub mod panorama;
 pub mod query;
 pub mod routes;
+#[cfg(feature = "gpu")]
+pub mod serve;
 mod server;
 
 pub use error::WebError;

@@ -23,6 +23,8 @@ pub enum Body {
     /// A served image or video file, read when the reply is sent (in the byte range the
     /// request asks for, if any).
     File(PathBuf),
+    /// Bytes made for this request (a rendered image).
+    Bytes(Vec<u8>),
 }
 
 /// A reply: status, media type and body.
@@ -34,14 +36,18 @@ pub struct Reply {
     pub content_type: &'static str,
     /// What to send.
     pub body: Body,
+    /// Headers beyond the ones every reply has (name, ASCII value).
+    pub headers: Vec<(&'static str, String)>,
 }
 
 impl Reply {
-    fn ok(content_type: &'static str, body: Body) -> Self {
+    /// A 200 reply.
+    pub fn ok(content_type: &'static str, body: Body) -> Self {
         Self {
             status: 200,
             content_type,
             body,
+            headers: Vec::new(),
         }
     }
 
@@ -53,28 +59,54 @@ impl Reply {
             status,
             content_type: "text/plain; charset=utf-8",
             body: Body::Text(text),
+            headers: Vec::new(),
+        }
+    }
+
+    /// A JSON reply of `value`; 500 if it cannot be written.
+    pub fn json(value: &impl serde::Serialize) -> Self {
+        match serde_json::to_string(value) {
+            Ok(json) => Reply::ok("application/json", Body::Text(json)),
+            Err(e) => Reply::error(500, format!("cannot write the JSON reply: {e}")),
         }
     }
 }
 
-/// Answers one request: `method` as sent, `url` the request target (path and query).
-pub fn route(method: &str, url: &str, panorama: &Panorama) -> Reply {
+/// A GET (or HEAD) request's decoded path and raw query; the error reply for another method,
+/// a path that is not UTF-8, or one that tries to climb out of the address set (403).
+pub fn checked_path(method: &str, url: &str) -> Result<(String, String), Reply> {
     if method != "GET" && method != "HEAD" {
-        return Reply::error(405, format!("method {method} not allowed: use GET"));
+        return Err(Reply::error(
+            405,
+            format!("method {method} not allowed: use GET"),
+        ));
     }
     let (raw_path, query) = url.split_once('?').unwrap_or((url, ""));
     let path = match percent_decode_str(raw_path).decode_utf8() {
         Ok(p) => p,
-        Err(_) => return Reply::error(400, "the path is not UTF-8 once decoded"),
+        Err(_) => return Err(Reply::error(400, "the path is not UTF-8 once decoded")),
     };
     if climbs(&path) {
-        return Reply::error(403, "the viewer serves only the panorama it was given");
+        return Err(Reply::error(
+            403,
+            "this server serves only its own fixed addresses",
+        ));
     }
+    Ok((path.into_owned(), query.to_owned()))
+}
+
+/// Answers one request: `method` as sent, `url` the request target (path and query).
+pub fn route(method: &str, url: &str, panorama: &Panorama) -> Reply {
+    let (path, query) = match checked_path(method, url) {
+        Ok(checked) => checked,
+        Err(reply) => return reply,
+    };
+    let query = query.as_str();
     let no_query = |reply: Reply| match query::pairs(query, &[]) {
         Ok(_) => reply,
         Err(e) => Reply::error(400, e),
     };
-    match path.as_ref() {
+    match path.as_str() {
         "/" | "/index.html" => match query::check_view(query, panorama) {
             Ok(()) => Reply::ok("text/html; charset=utf-8", Body::Static(assets::INDEX_HTML)),
             Err(e) => Reply::error(400, e),
@@ -83,10 +115,7 @@ pub fn route(method: &str, url: &str, panorama: &Panorama) -> Reply {
             "text/javascript; charset=utf-8",
             Body::Static(assets::VIEWER_JS),
         )),
-        "/api/info" => no_query(match serde_json::to_string(&panorama.info()) {
-            Ok(json) => Reply::ok("application/json", Body::Text(json)),
-            Err(e) => Reply::error(500, format!("cannot describe the panorama: {e}")),
-        }),
+        "/api/info" => no_query(Reply::json(&panorama.info())),
         "/video" => no_query(match panorama.video {
             Some(_) => Reply::ok(
                 ImageType::Mp4.mime(),
@@ -102,7 +131,7 @@ pub fn route(method: &str, url: &str, panorama: &Panorama) -> Reply {
                 Reply::error(404, "this panorama is a video: it is served at /video")
             }
             Some(index) => no_query(frame(index, panorama)),
-            None => Reply::error(404, format!("no such page: {raw_path}")),
+            None => Reply::error(404, format!("no such page: {path}")),
         },
     }
 }

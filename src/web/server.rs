@@ -1,5 +1,6 @@
 //! The viewer's HTTP server: tiny_http on a listener of our own, a few worker threads that
-//! answer with [`routes::route`](super::routes::route) until stopped.
+//! answer with a route function ([`routes::route`](super::routes::route) for `view`) until
+//! stopped.
 
 use std::io::Read;
 use std::net::{SocketAddr, TcpListener};
@@ -20,15 +21,67 @@ const WORKERS: usize = 4;
 /// How often an idle worker looks whether it should stop.
 const STOP_POLL: Duration = Duration::from_millis(100);
 
-/// A bound viewer server, not yet serving.
-pub struct ViewServer {
+/// A bound HTTP listener and its stop flag: what `view` and `serve` share.
+pub(crate) struct Listener {
     server: Arc<Server>,
     addr: SocketAddr,
-    panorama: Arc<Panorama>,
     stop: Arc<AtomicBool>,
 }
 
-/// Stops a serving [`ViewServer`] from another thread (a Ctrl-C handler, a test).
+impl Listener {
+    /// Listens on `host:port` (port 0: any free port).
+    pub(crate) fn bind(host: &str, port: u16) -> Result<Self, WebError> {
+        let bind_err = |reason: String| WebError::Bind {
+            addr: format!("{host}:{port}"),
+            reason,
+        };
+        let listener = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
+        let addr = listener.local_addr().map_err(|e| bind_err(e.to_string()))?;
+        let server = Server::from_listener(listener, None).map_err(|e| bind_err(e.to_string()))?;
+        Ok(Self {
+            server: Arc::new(server),
+            addr,
+            stop: Arc::new(AtomicBool::new(false)),
+        })
+    }
+
+    /// The address it listens on (with the real port when bound to port 0).
+    pub(crate) fn addr(&self) -> SocketAddr {
+        self.addr
+    }
+
+    /// A handle that stops [`serve`](Self::serve).
+    pub(crate) fn stopper(&self) -> Stopper {
+        Stopper(self.stop.clone())
+    }
+
+    /// Answers requests with `route(method, url)` on `workers` threads until stopped. A bad
+    /// request gets its error reply and changes nothing.
+    pub(crate) fn serve(&self, workers: usize, route: &(dyn Fn(&str, &str) -> Reply + Sync)) {
+        let loopback_only = self.addr.ip().is_loopback();
+        std::thread::scope(|scope| {
+            for _ in 0..workers {
+                scope.spawn(|| {
+                    while !self.stop.load(Ordering::SeqCst) {
+                        // Err: a connection failed before its request was read; keep going.
+                        if let Ok(Some(request)) = self.server.recv_timeout(STOP_POLL) {
+                            answer(request, loopback_only, route);
+                        }
+                    }
+                });
+            }
+        });
+    }
+}
+
+/// A bound viewer server, not yet serving.
+pub struct ViewServer {
+    listener: Listener,
+    panorama: Arc<Panorama>,
+}
+
+/// Stops a serving server (`view`'s or `serve`'s) from another thread (a Ctrl-C handler, a
+/// test).
 #[derive(Clone)]
 pub struct Stopper(Arc<AtomicBool>);
 
@@ -42,58 +95,32 @@ impl Stopper {
 impl ViewServer {
     /// Listens on `host:port` (port 0: any free port) for requests about `panorama`.
     pub fn bind(host: &str, port: u16, panorama: Panorama) -> Result<Self, WebError> {
-        let bind_err = |reason: String| WebError::Bind {
-            addr: format!("{host}:{port}"),
-            reason,
-        };
-        let listener = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
-        let addr = listener.local_addr().map_err(|e| bind_err(e.to_string()))?;
-        let server = Server::from_listener(listener, None).map_err(|e| bind_err(e.to_string()))?;
         Ok(Self {
-            server: Arc::new(server),
-            addr,
+            listener: Listener::bind(host, port)?,
             panorama: Arc::new(panorama),
-            stop: Arc::new(AtomicBool::new(false)),
         })
     }
 
     /// The address it listens on (with the real port when bound to port 0).
     pub fn addr(&self) -> SocketAddr {
-        self.addr
+        self.listener.addr()
     }
 
     /// A handle that stops [`serve`](Self::serve).
     pub fn stopper(&self) -> Stopper {
-        Stopper(self.stop.clone())
+        self.listener.stopper()
     }
 
     /// Answers requests until stopped. A bad request gets its error reply and changes nothing.
     pub fn serve(self) {
-        let loopback_only = self.addr.ip().is_loopback();
-        std::thread::scope(|scope| {
-            for _ in 0..WORKERS {
-                scope.spawn(|| {
-                    while !self.stop.load(Ordering::SeqCst) {
-                        // Err: a connection failed before its request was read; keep going.
-                        if let Ok(Some(request)) = self.server.recv_timeout(STOP_POLL) {
-                            answer(request, &self.panorama, loopback_only);
-                        }
-                    }
-                });
-            }
-        });
+        let panorama = &self.panorama;
+        self.listener
+            .serve(WORKERS, &|method, url| route(method, url, panorama));
     }
 
     /// Serves on a background thread; the returned handle stops it and waits.
     pub fn spawn(self) -> Running {
-        let stopper = self.stopper();
-        let addr = self.addr;
-        let thread = std::thread::spawn(move || self.serve());
-        Running {
-            addr,
-            stopper,
-            thread: Some(thread),
-        }
+        Running::start(self.addr(), self.stopper(), move || self.serve())
     }
 }
 
@@ -105,6 +132,19 @@ pub struct Running {
 }
 
 impl Running {
+    /// Runs `serve` on a new thread; `stopper` must stop it.
+    pub(crate) fn start(
+        addr: SocketAddr,
+        stopper: Stopper,
+        serve: impl FnOnce() + Send + 'static,
+    ) -> Self {
+        Running {
+            addr,
+            stopper,
+            thread: Some(std::thread::spawn(serve)),
+        }
+    }
+
     /// The address it listens on.
     pub fn addr(&self) -> SocketAddr {
         self.addr
@@ -120,7 +160,11 @@ impl Drop for Running {
     }
 }
 
-fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool) {
+fn answer(
+    request: tiny_http::Request,
+    loopback_only: bool,
+    route: &(dyn Fn(&str, &str) -> Reply + Sync),
+) {
     let header = |name: &'static str| {
         request
             .headers()
@@ -136,19 +180,28 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
             "this server answers only requests addressed to localhost or 127.0.0.1",
         )
     } else {
-        route(request.method().as_str(), request.url(), panorama)
+        route(request.method().as_str(), request.url())
     };
+    let extra = &reply.headers;
     // A client that went away while we answered is no concern of the server's.
     let _ = match reply.body {
         Body::Static(text) => request.respond(with_headers(
             Response::from_data(text.as_bytes()),
             reply.status,
             reply.content_type,
+            extra,
         )),
         Body::Text(text) => request.respond(with_headers(
             Response::from_data(text.into_bytes()),
             reply.status,
             reply.content_type,
+            extra,
+        )),
+        Body::Bytes(bytes) => request.respond(with_headers(
+            Response::from_data(bytes),
+            reply.status,
+            reply.content_type,
+            extra,
         )),
         Body::File(path) => match open_range(&path, range.as_deref()) {
             Ok((file, FileRange::Whole(len))) => request.respond(
@@ -162,6 +215,7 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
                     ),
                     reply.status,
                     reply.content_type,
+                    extra,
                 )
                 .with_header(header_pair("Accept-Ranges", "bytes")),
             ),
@@ -176,6 +230,7 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
                     ),
                     206,
                     reply.content_type,
+                    extra,
                 )
                 .with_header(header_pair("Accept-Ranges", "bytes"))
                 .with_header(header_pair(
@@ -188,6 +243,7 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
                     Response::from_data(format!("the file has {len} bytes\n")),
                     416,
                     "text/plain; charset=utf-8",
+                    &[],
                 )
                 .with_header(header_pair("Content-Range", &format!("bytes */{len}"))),
             ),
@@ -195,6 +251,7 @@ fn answer(request: tiny_http::Request, panorama: &Panorama, loopback_only: bool)
                 Response::from_data(format!("cannot read {}: {e}\n", path.display())),
                 500,
                 "text/plain; charset=utf-8",
+                &[],
             )),
         },
     };
@@ -271,10 +328,17 @@ fn with_headers<R: std::io::Read>(
     response: Response<R>,
     status: u16,
     content_type: &str,
+    extra: &[(&'static str, String)],
 ) -> Response<R> {
     let header = |name: &str, value: &str| {
         Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
     };
+    // Every body's length is known: send it as Content-Length, never chunked, so clients
+    // see the size up front.
+    let mut response = response.with_chunked_threshold(usize::MAX);
+    for (name, value) in extra {
+        response = response.with_header(header(name, value));
+    }
     response
         .with_status_code(status)
         .with_header(header("Content-Type", content_type))

@@ -215,8 +215,7 @@ pub fn stress_scene(random: usize) -> Scene {
         radii: Radii::PerPoint(pts.iter().map(|p| p.1 as f32).collect()),
         attributes: Attributes {
             rgb: Some(colors),
-            intensity: None,
-            classification: None,
+            ..Attributes::default()
         },
     }
 }
@@ -235,8 +234,7 @@ pub fn enclosing_scene() -> Scene {
         radii: Radii::PerPoint(pts.iter().map(|p| p.1 as f32).collect()),
         attributes: Attributes {
             rgb: Some(vec![[10, 20, 30], [200, 0, 0], [0, 200, 0], [0, 0, 200]]),
-            intensity: None,
-            classification: None,
+            ..Attributes::default()
         },
     }
 }

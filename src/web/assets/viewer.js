@@ -580,7 +580,30 @@
   // For a video: its element's time in seconds and whether it is paused.
   viewer.videoState = () => (video ? { time: video.currentTime, paused: video.paused } : null);
 
+  // Shows `image` (an ImageBitmap decoded without colour-space conversion or premultiplied
+  // alpha, at most viewer.maxTexture on a side) as the panorama: `kind` 'mono' (2:1) or
+  // 'ods' (1:1, left eye on top). Settles once drawn.
+  viewer.maxTexture = maxTexture;
+  viewer.showImage = (image, kind) => {
+    showing += 1;  // a frame still loading does not replace it
+    viewer.info = { kind, width: image.width, height: image.height, frames: 1 };
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, image);
+    textureHeight = image.height;
+    $('mode-box').hidden = kind !== 'ods';
+    return requestDraw();
+  };
+
   async function start() {
+    // A page that makes its own panoramas (omnicloud serve) hands them over through
+    // viewer.showImage; the viewer only sets up its controls and WebXR.
+    if (canvas.dataset.source === 'page') {
+      statusLine.textContent = '';
+      setUpXR();
+      return;
+    }
     const response = await fetch('/api/info');
     if (!response.ok) throw new Error(`/api/info: ${response.status}`);
     viewer.info = await response.json();

@@ -1,0 +1,91 @@
+//! `omnicloud info`: a file's header (fast on any size), with `--stats` a pass over its
+//! points, as text or JSON.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use glam::DVec3;
+use serde_json::Value;
+
+use crate::io::{self, FileInfo, PointStats};
+use crate::prepare::radius;
+use crate::scene::Scene;
+use crate::stream::{SURVEY_POINTS, plan::survey_blocks};
+
+use super::progress;
+
+/// Options of `omnicloud info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// LAS, LAZ or PLY files.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Also read every point: class, return-number and returns-per-pulse histograms,
+    /// intensity and colour ranges, actual bounds and the point spacing.
+    #[arg(long)]
+    pub stats: bool,
+    /// Print JSON (one object per file, one per line) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Runs `omnicloud info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    for (i, file) in args.files.iter().enumerate() {
+        let info = io::read_info(file)?;
+        if !args.json {
+            if i > 0 {
+                println!();
+            }
+            println!("{info}");
+        }
+        let stats = args.stats.then(|| stats(file, &info, args.json));
+        if args.json {
+            let mut out = info.to_json();
+            if let Some(result) = &stats {
+                let (key, value) = match result {
+                    Ok((stats, spacing)) => {
+                        let mut v = stats.to_json();
+                        v["spacing"] = (*spacing).into();
+                        ("stats", v)
+                    }
+                    Err(e) => ("stats_error", Value::from(format!("{e:#}"))),
+                };
+                out[key] = value;
+            }
+            println!("{out}");
+        } else if let Some(Ok((stats, spacing))) = &stats {
+            println!("{stats}");
+            match spacing {
+                Some(s) => println!(
+                    "spacing:       {s:.4} m median nearest-neighbour (auto radius {:.4} m)",
+                    radius::radius_for_spacing(Some(*s))
+                ),
+                None => println!("spacing:       n/a (fewer than two distinct points)"),
+            }
+        }
+        if let Some(Err(e)) = stats {
+            return Err(e);
+        }
+    }
+    Ok(())
+}
+
+/// The full pass: statistics, and the median spacing measured where a render's survey would
+/// measure it (every point of a file of up to [`SURVEY_POINTS`], else evenly spaced blocks).
+fn stats(file: &Path, info: &FileInfo, quiet: bool) -> Result<(PointStats, Option<f32>)> {
+    let declared = info.point_count;
+    let blocks = if declared <= SURVEY_POINTS as u64 {
+        vec![(0, declared)]
+    } else {
+        survey_blocks(declared, SURVEY_POINTS)
+    };
+    let pb = progress::bar(quiet, declared, "reading");
+    let (stats, sample) = io::point_stats(file, &blocks, &pb).context("--stats")?;
+    pb.finish_and_clear();
+    let origin = sample.first().copied().unwrap_or(DVec3::ZERO);
+    let positions = sample.iter().map(|p| (*p - origin).as_vec3()).collect();
+    let spacing = radius::median_spacing(&Scene::new(origin, positions, 0.0));
+    Ok((stats, spacing))
+}

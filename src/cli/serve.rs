@@ -1,0 +1,131 @@
+//! `omnicloud serve`: loads a scan, draws its map, starts the live server, serves until
+//! Ctrl-C.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+
+use crate::io::Up;
+use crate::prepare::{PrepareOptions, RadiusChoice, prepare};
+use crate::render::{ColorMode, Shading};
+use crate::scene::Radii;
+use crate::web::serve::{LiveOptions, LiveScan, LiveServer};
+
+use super::{parse, progress, view};
+
+/// Options of `omnicloud serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// A LAS, LAZ or PLY file.
+    pub file: PathBuf,
+    /// Address to listen on: 127.0.0.1 keeps it on this machine; 0.0.0.0 lets a headset on
+    /// the network reach it (and everyone else there).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    /// Port to listen on (0: any free port).
+    #[arg(long, default_value = "8360")]
+    pub port: u16,
+    /// Panorama width per eye; the ODS pair is WIDTH x WIDTH (top-bottom).
+    #[arg(long, default_value = "2048", value_parser = parse::width)]
+    pub width: u32,
+    /// Camera height above the ground where the map is clicked, metres.
+    #[arg(long, default_value = "1.7", value_parser = eye_height, allow_hyphen_values = true)]
+    pub height: f64,
+    /// The map's longer side, pixels.
+    #[arg(long, default_value = "1024", value_parser = clap::value_parser!(u32).range(16..=8192))]
+    pub map_size: u32,
+    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
+    /// file's per-point `radius` when it has one, else auto.
+    #[arg(long)]
+    pub radius: Option<RadiusChoice>,
+    /// Up axis of the file.
+    #[arg(long, value_enum, ignore_case = true, default_value = "z")]
+    pub up: Up,
+    /// Point colour (auto: rgb when present, else elevation).
+    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
+    pub color: ColorMode,
+    /// Shading.
+    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
+    pub shading: Shading,
+    /// Also open the page in the default browser.
+    #[arg(long)]
+    pub open: bool,
+    /// No progress bar.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// A camera height: finite, from 0 to 1000 m.
+fn eye_height(s: &str) -> Result<f64, String> {
+    let v = crate::value::finite(s, "metres")?;
+    if (0.0..=1000.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "expected a height from 0 to 1000 metres, got `{s}`"
+        ))
+    }
+}
+
+/// Serves `args.file` until Ctrl-C.
+pub fn run(args: &ServeArgs) -> Result<()> {
+    let started = Instant::now();
+    let options = PrepareOptions {
+        camera: None,
+        up: args.up,
+        radius: args.radius,
+        ..PrepareOptions::default()
+    };
+    let pb = progress::bar(args.quiet, 0, "loading");
+    let prepared = prepare(&args.file, &options, &pb)?;
+    pb.finish_and_clear();
+    super::warn_dropped(&args.file, &prepared.report, &|m| eprintln!("{m}"));
+    let radius = match &prepared.scene.radii {
+        Radii::Uniform(r) => format!("{r:.4} m"),
+        Radii::PerPoint(_) => "per point".to_string(),
+    };
+    let live = LiveOptions {
+        width: args.width,
+        height: args.height,
+        color: args.color,
+        shading: args.shading,
+        map_size: args.map_size,
+    };
+    let scan = LiveScan::new(&args.file, prepared.scene, live)?;
+    let server = LiveServer::bind(&args.host, args.port, scan)?;
+    let max = server.renderer().max_width();
+    if args.width > max {
+        bail!(
+            "--width {} is wider than the GPU adapter allows ({max}); choose a smaller --width",
+            args.width
+        );
+    }
+    let scan = server.scan();
+    println!(
+        "omnicloud serve: {} ({} points, radius {radius}, map {}x{}, ODS {}x{} on {}; ready in {:.1?})",
+        args.file.display(),
+        scan.info.points,
+        scan.grid.width,
+        scan.grid.height,
+        args.width,
+        args.width,
+        server.renderer().adapter(),
+        started.elapsed()
+    );
+    let addr = server.addr();
+    let url = view::local_url(addr);
+    println!("open {url}   (Ctrl-C stops the server)");
+    if !addr.ip().is_loopback() {
+        view::warn_exposed(addr);
+    }
+    let stopper = server.stopper();
+    ctrlc::set_handler(move || stopper.stop()).context("installing the Ctrl-C handler")?;
+    if args.open {
+        view::open_browser(&url);
+    }
+    server.serve();
+    println!("omnicloud serve: stopped");
+    Ok(())
+}

@@ -1,0 +1,541 @@
+//! `omnicloud tour`: a camera path through a scan, one frame per pose, resumable and
+//! shardable across batch schedulers.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+
+use crate::memory;
+use crate::projection::{Equirect, PoleMerge, Stereo, StereoKind};
+use crate::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
+use crate::tour::{
+    self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
+};
+
+use super::args::ViewArgs;
+use super::{parse, progress};
+
+/// Options of `omnicloud tour`.
+#[derive(Debug, Args)]
+#[command(
+    mut_arg("yaw", |a| a.help(
+        "Degrees added to every frame's heading (90 looks right of the direction of travel)"
+    )),
+    mut_arg("camera", |a| a.hide(true)),
+)]
+pub struct TourArgs {
+    /// A LAS, LAZ or PLY file.
+    pub file: PathBuf,
+    /// The camera path: CSV with a header (x,y[,z][,yaw,pitch,roll]) or a GeoJSON
+    /// LineString/MultiLineString, in the scan's coordinates.
+    #[arg(long, value_name = "PATH.csv|PATH.geojson")]
+    pub path: PathBuf,
+    /// Output folder for frame_000000.png ... and tour.json.
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub output: PathBuf,
+    /// Eye height above the ground where the path gives no z, metres.
+    #[arg(long, default_value = "1.7", value_parser = parse_height)]
+    pub height: f64,
+    /// Walking speed along the path, metres per second.
+    #[arg(long, default_value = "1.4", value_parser = parse_positive)]
+    pub speed: f64,
+    /// Frames per second of the video the frames make.
+    #[arg(long, default_value = "30", value_parser = parse_positive)]
+    pub fps: f64,
+    /// Render this many frames evenly along the path instead (ignores --speed).
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub frames: Option<u64>,
+    /// Metres of path over which the heading follows the averaged tangent, so turns at
+    /// keyframes ease in and out (0: the exact tangent). Ignored when the path gives yaw.
+    #[arg(long, default_value = "2", value_parser = parse_non_negative)]
+    pub heading_smoothing: f64,
+    /// Frame file format.
+    #[arg(long, value_enum, ignore_case = true, default_value = "png")]
+    pub format: FrameFormat,
+    /// JPEG quality (with --format jpg).
+    #[arg(long, default_value = "90", value_parser = clap::value_parser!(u8).range(1..=100))]
+    pub quality: u8,
+    /// Re-render frames whose file already exists (by default they are skipped).
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Render only shard I of N (contiguous frame ranges), or `auto`: from Slurm job arrays,
+    /// Kubernetes Indexed Jobs (with --shards) or GNU parallel (with --shards).
+    #[arg(long, value_name = "I/N|auto")]
+    pub shard: Option<ShardChoice>,
+    /// Number of shards for `--shard auto` under Kubernetes or GNU parallel.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub shards: Option<u32>,
+    /// Image width per eye; the height is half of it.
+    #[arg(long, default_value = "3840", value_parser = parse::width)]
+    pub width: u32,
+    /// Scene and stereo (--camera is refused: the path places the camera; --yaw is added to
+    /// every frame's heading).
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Point colour (auto: rgb when present, else elevation).
+    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
+    pub color: ColorMode,
+    /// Shading.
+    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
+    pub shading: Shading,
+    /// Renderer.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raster")]
+    pub renderer: RendererKind,
+    /// Rasterizer proxy geometry: quad, static:N, dynamic, bounds.
+    #[arg(long, default_value = "bounds")]
+    pub proxy: Proxy,
+    /// Rasterizer fragments.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
+    pub imposter: Imposter,
+    /// Memory cap for the ray tracer, e.g. 2G (default: 80% of the available memory).
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
+    /// No progress bar or summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+    /// Also encode the frames into this H.264 MP4 with 360 metadata once all are rendered
+    /// (as `omnicloud video`; with --shard, run that after the last shard instead).
+    #[arg(long, value_name = "OUT.mp4")]
+    pub video: Option<PathBuf>,
+}
+
+fn parse_positive(s: &str) -> Result<f64, String> {
+    let v = crate::value::finite(s, "a positive number")?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("`{s}` must be greater than 0"))
+    }
+}
+
+fn parse_non_negative(s: &str) -> Result<f64, String> {
+    let v = crate::value::finite(s, "metres")?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("`{s}` must not be negative"))
+    }
+}
+
+fn parse_height(s: &str) -> Result<f64, String> {
+    crate::value::finite(s, "metres above the ground")
+}
+
+/// Runs `omnicloud tour`.
+pub fn run(args: &TourArgs) -> Result<()> {
+    let say = |msg: String| {
+        if !args.quiet {
+            eprintln!("{msg}");
+        }
+    };
+    if args.view.camera.is_some() {
+        bail!("tour places the camera along --path: drop --camera");
+    }
+    check_video(args)?;
+    let shard = match args.shard {
+        None => Shard::ALL,
+        Some(ShardChoice::Given(s)) => s,
+        Some(ShardChoice::Auto) => {
+            let (s, source) = shard::from_environment(|k| std::env::var(k).ok(), args.shards)
+                .map_err(anyhow::Error::msg)?;
+            say(format!("shard {s} from {source}"));
+            s
+        }
+    };
+    crate::cli::render_guard::install_interrupt_handler();
+    check_memory(args)?;
+
+    let request = TourRequest {
+        scan: args.file.clone(),
+        path: args.path.clone(),
+        prepare: args.view.prepare_options(),
+        height: args.height,
+        sampling: match args.frames {
+            Some(n) => Sampling::Frames(n as usize),
+            None => Sampling::Speed {
+                speed: args.speed,
+                fps: args.fps,
+            },
+        },
+        heading_window: args.heading_smoothing,
+        yaw_offset: args.view.yaw,
+    };
+    let started = Instant::now();
+    let pb = progress::bar(args.quiet, 0, "loading");
+    let planned = tour::plan(&request, &pb);
+    pb.finish_and_clear();
+    let planned = planned?;
+    super::warn_dropped(&args.file, &planned.load_report, &say);
+    let total = planned.poses.len();
+    say(format!(
+        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} m through {} keyframes: \
+         {total} frames (prepared in {:.2?})",
+        args.file.display(),
+        planned.scene.len(),
+        planned.origin.x,
+        planned.origin.y,
+        planned.origin.z,
+        args.path.display(),
+        planned.length,
+        planned.keyframes.len(),
+        started.elapsed()
+    ));
+
+    std::fs::create_dir_all(&args.output)
+        .with_context(|| format!("creating the output folder {}", args.output.display()))?;
+    let settings = RenderSettings {
+        image: Equirect::from_width(args.width),
+        camera: crate::projection::Camera::new(glam::DVec3::ZERO, 0.0),
+        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
+        color: args.color,
+        shading: args.shading,
+        proxy: args.proxy,
+        imposter: args.imposter,
+    };
+    let options = RunOptions {
+        settings,
+        dir: args.output.clone(),
+        format: args.format,
+        jpeg_quality: args.quality,
+        fps: args.fps,
+        overwrite: args.overwrite,
+        render_command: render_command(args),
+    };
+    let manifest = tour::run::manifest(&request, &planned, &options);
+    let written = manifest.write(&args.output)?;
+    say(format!("wrote {}", written.display()));
+
+    let range = shard.frames(total);
+    let (todo, skipped) = tour::run::frames_to_render(&options, range.clone());
+    if args.shard.is_some() {
+        say(format!(
+            "shard {shard}: frames {}",
+            if range.is_empty() {
+                "none".to_string()
+            } else {
+                format!("{}..={}", range.start, range.end - 1)
+            }
+        ));
+    }
+    if !skipped.is_empty() {
+        say(format!(
+            "skipping {} frame(s) already rendered ({}); --overwrite re-renders them",
+            skipped.len(),
+            ranges(&skipped)
+        ));
+    }
+    if todo.is_empty() {
+        say("nothing to render".to_string());
+        return encode_video(args, &say);
+    }
+
+    let resident = Resident::new(&planned.scene, args.renderer, &settings).with_context(|| {
+        format!(
+            "keeping {} resident for the tour (a scan too large for the GPU is refused: \
+             use --renderer raytrace, or render frames one by one with `omnicloud render`, \
+             which streams)",
+            args.file.display()
+        )
+    })?;
+    say(resident.describe());
+    let log_path = args.output.join("tour.log");
+    let mut log = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&log_path)
+        .with_context(|| format!("opening {}", log_path.display()))?;
+    let pb = progress::bar(args.quiet, todo.len() as u64, "rendering");
+    let report = tour::render_frames(
+        &planned,
+        &resident,
+        &options,
+        &todo,
+        &pb,
+        |i, path, took| {
+            // One short line per frame: appends of this size do not interleave between shards.
+            let _ = writeln!(
+                log,
+                "shard {shard}: rendered frame {i} ({}) in {:.3} s",
+                path.file_name().unwrap_or_default().to_string_lossy(),
+                took.as_secs_f64()
+            );
+        },
+    );
+    pb.finish_and_clear();
+    let report = report?;
+    say(format!(
+        "rendered {} frame(s) ({}) in {:.2?}: {:.2} frames/s sustained",
+        report.rendered.len(),
+        ranges(&report.rendered),
+        report.busy,
+        report.sustained_fps()
+    ));
+    encode_video(args, &say)
+}
+
+/// Refuses `--video` before anything is loaded or rendered when the frames could not be
+/// encoded (too large for the encoder or H.264 level 5.1, odd sizes) or with `--shard`.
+fn check_video(args: &TourArgs) -> Result<()> {
+    let Some(out) = &args.video else {
+        return Ok(());
+    };
+    if args.shard.is_some() {
+        bail!(
+            "--video encodes the whole tour, and a shard renders part of it: once every shard \
+             has finished, run `omnicloud video {} -o {}`",
+            args.output.display(),
+            out.display()
+        );
+    }
+    let ods = args.view.stereo.unwrap_or_default() == StereoKind::Ods;
+    let height = if ods { args.width } else { args.width / 2 };
+    crate::video::level::level_for(args.width, height, args.fps, 0)
+        .with_context(|| format!("--video {} at --width {}", out.display(), args.width))?;
+    Ok(())
+}
+
+/// Encodes the tour's frames into `--video`, when asked.
+fn encode_video(args: &TourArgs, say: &impl Fn(String)) -> Result<()> {
+    let Some(out) = &args.video else {
+        return Ok(());
+    };
+    let options = crate::video::VideoOptions {
+        fps: Some(args.fps),
+        ..crate::video::VideoOptions::default()
+    };
+    let pb = progress::bar(args.quiet, 0, "encoding");
+    let report = crate::video::encode_folder(&args.output, out, &options, &pb)
+        .with_context(|| format!("encoding {} into {}", args.output.display(), out.display()))?;
+    say(format!(
+        "wrote {}: {} frames {}x{} at {} fps, {}, H.264 level {}, {}",
+        report.output.display(),
+        report.frames,
+        report.width,
+        report.height,
+        report.fps,
+        report.stereo.name(),
+        report.level.name,
+        bytesize::ByteSize(report.bytes)
+    ));
+    Ok(())
+}
+
+/// Refuses, before loading, a ray-traced tour whose resident scene and BVH exceed the cap.
+fn check_memory(args: &TourArgs) -> Result<()> {
+    if args.renderer != RendererKind::Raytrace {
+        return Ok(());
+    }
+    let (cap, is_default) = match args.max_memory {
+        Some(c) => (c, false),
+        None => match memory::default_cap() {
+            Some(c) => (c, true),
+            None => return Ok(()),
+        },
+    };
+    let info = crate::io::open(&args.file)?.info().clone();
+    let estimate = memory::raytrace_estimate_for(&info, 1, args.width, args.view.eyes());
+    memory::check_budget(&args.file, &estimate, cap, is_default)?;
+    Ok(())
+}
+
+/// `omnicloud render SCAN` with every option that shapes a frame, as a tour renders it.
+fn render_command(args: &TourArgs) -> Vec<String> {
+    let name = |v: &dyn Fn() -> Option<clap::builder::PossibleValue>| {
+        v().map(|p| p.get_name().to_string()).unwrap_or_default()
+    };
+    let mut a: Vec<String> = vec![
+        "omnicloud".into(),
+        "render".into(),
+        args.file.display().to_string(),
+        format!("--width={}", args.width),
+    ];
+    let stereo = args.view.stereo.unwrap_or_default();
+    a.push(format!("--stereo={}", name(&|| stereo.to_possible_value())));
+    if stereo == StereoKind::Ods {
+        let view = &args.view;
+        a.push(format!("--ipd={}", view.ipd));
+        let north = view.pole_merge_north.unwrap_or(view.pole_merge);
+        let south = view.pole_merge_south.unwrap_or(view.pole_merge);
+        a.push(format!("--pole-merge-north={}", pole_merge(north)));
+        a.push(format!("--pole-merge-south={}", pole_merge(south)));
+        a.push(format!(
+            "--ods-offset={}",
+            name(&|| view.ods_offset.to_possible_value())
+        ));
+    }
+    if let Some(r) = args.view.radius {
+        a.push(format!(
+            "--radius={}",
+            match r {
+                crate::prepare::RadiusChoice::Auto => "auto".to_string(),
+                crate::prepare::RadiusChoice::Fixed(v) => v.to_string(),
+            }
+        ));
+    }
+    a.push(format!(
+        "--up={}",
+        name(&|| args.view.up.to_possible_value())
+    ));
+    if let Some(c) = args.view.classes {
+        a.push(format!("--classes={c}"));
+    }
+    if let Some(c) = args.view.drop_classes {
+        a.push(format!("--drop-classes={c}"));
+    }
+    a.push(format!(
+        "--returns={}",
+        name(&|| args.view.returns.to_possible_value())
+    ));
+    if let Some(c) = args.view.crop {
+        a.push(format!(
+            "--crop={},{},{},{}",
+            c.min.x, c.min.y, c.max.x, c.max.y
+        ));
+    }
+    if let Some(m) = args.view.max_distance {
+        a.push(format!("--max-distance={m}"));
+    }
+    a.push(format!(
+        "--color={}",
+        name(&|| args.color.to_possible_value())
+    ));
+    a.push(format!(
+        "--shading={}",
+        name(&|| args.shading.to_possible_value())
+    ));
+    a.push(format!(
+        "--renderer={}",
+        name(&|| args.renderer.to_possible_value())
+    ));
+    if args.renderer == RendererKind::Raster {
+        a.push(format!("--proxy={}", proxy(args.proxy)));
+        a.push(format!(
+            "--imposter={}",
+            name(&|| args.imposter.to_possible_value())
+        ));
+    }
+    if args.format == FrameFormat::Jpg {
+        a.push(format!("--quality={}", args.quality));
+    }
+    a
+}
+
+/// A pole-merge profile as `--pole-merge` reads it back.
+fn pole_merge(p: PoleMerge) -> String {
+    match p {
+        PoleMerge::Off => "off".into(),
+        PoleMerge::Marrinan {
+            start_deg,
+            end_deg,
+            exponent,
+        } => format!("marrinan:{start_deg},{end_deg},{exponent}"),
+        PoleMerge::Cycles { from_deg, to_deg } => format!("cycles:{from_deg},{to_deg}"),
+    }
+}
+
+/// A proxy as `--proxy` reads it back.
+fn proxy(p: Proxy) -> String {
+    match p {
+        Proxy::Quad => "quad".into(),
+        Proxy::Static(n) => format!("static:{n}"),
+        Proxy::Dynamic => "dynamic".into(),
+        Proxy::Bounds => "bounds".into(),
+    }
+}
+
+/// Sorted frame numbers as ranges: `0-3, 7, 9-10`.
+fn ranges(frames: &[usize]) -> String {
+    let mut out: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < frames.len() {
+        let mut j = i;
+        while j + 1 < frames.len() && frames[j + 1] == frames[j] + 1 {
+            j += 1;
+        }
+        out.push(if i == j {
+            frames[i].to_string()
+        } else {
+            format!("{}-{}", frames[i], frames[j])
+        });
+        i = j + 1;
+    }
+    out.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cli::{Cli, Command};
+    use clap::Parser;
+
+    fn parse(extra: &[&str]) -> TourArgs {
+        let argv = ["omnicloud", "tour", "s.laz", "--path", "p.csv", "-o", "d"]
+            .iter()
+            .chain(extra);
+        match Cli::try_parse_from(argv).unwrap().command {
+            Command::Tour(t) => t,
+            _ => panic!("not tour"),
+        }
+    }
+
+    #[test]
+    fn defaults_match_the_documentation() {
+        let t = parse(&[]);
+        assert_eq!((t.height, t.speed, t.fps), (1.7, 1.4, 30.0));
+        assert_eq!(
+            (t.frames, t.format, t.shard),
+            (None, FrameFormat::Png, None)
+        );
+        let t = parse(&["--frames", "12", "--shard", "1/3", "--format", "exr"]);
+        assert_eq!(t.frames, Some(12));
+        assert_eq!(t.shard, Some(ShardChoice::Given(Shard::new(1, 3).unwrap())));
+        for bad in [&["--speed", "0"][..], &["--fps", "-1"], &["--frames", "0"]] {
+            let argv = ["omnicloud", "tour", "s.laz", "--path", "p", "-o", "d"]
+                .iter()
+                .chain(bad);
+            assert!(Cli::try_parse_from(argv).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn the_render_command_reads_back_as_the_same_settings() {
+        let t = parse(&[
+            "--stereo",
+            "ods",
+            "--pole-merge",
+            "cycles:55.5,70",
+            "--pole-merge-south",
+            "off",
+            "--radius",
+            "0.25",
+            "--proxy",
+            "static:8",
+            "--width",
+            "512",
+            "--color",
+            "elevation",
+        ]);
+        let mut argv = render_command(&t);
+        argv.extend(["-o".into(), "x.png".into(), "--yaw=-12.5".into()]);
+        let Command::Render(r) = Cli::try_parse_from(&argv).unwrap().command else {
+            panic!("not render")
+        };
+        assert_eq!(r.view.stereo_mode(), t.view.stereo_mode());
+        assert_eq!(r.view.radius, t.view.radius);
+        assert_eq!((r.proxy, r.width, r.color), (t.proxy, 512, t.color));
+        assert_eq!(
+            (r.shading, r.renderer, r.imposter),
+            (t.shading, t.renderer, t.imposter)
+        );
+        assert_eq!(r.view.yaw, -12.5);
+    }
+
+    #[test]
+    fn frame_lists_print_as_ranges() {
+        assert_eq!(ranges(&[0, 1, 2, 3, 7, 9, 10]), "0-3, 7, 9-10");
+        assert_eq!(ranges(&[]), "");
+    }
+}

@@ -1,0 +1,247 @@
+//! Tours: a camera path through a scan, rendered frame by frame (DESIGN §10).
+//!
+//! [`path`] reads the keyframes (CSV or GeoJSON), [`spline`] draws the curve through them and
+//! measures its length, [`poses`] places the frames at constant speed with their headings,
+//! [`plan`](plan()) puts it together on a loaded scan, [`shard`] splits the frames across
+//! processes, [`resident`] keeps the scan loaded for every frame, [`run`] renders and writes
+//! the frames, and [`manifest`] records them in `tour.json`.
+
+pub mod ground;
+pub mod manifest;
+pub mod path;
+pub mod poses;
+pub mod resident;
+pub mod run;
+pub mod shard;
+pub mod spline;
+
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec2};
+use indicatif::ProgressBar;
+
+use crate::prepare::{PrepareError, PrepareOptions, prepare};
+use crate::scene::Scene;
+
+pub use manifest::{FrameRecord, StereoLayout, TourManifest, read_manifest};
+pub use path::{Keyframe, PathError};
+pub use poses::{Heading, Pose, Sampling};
+pub use resident::{Resident, ResidentError};
+pub use run::{FrameFormat, RunOptions, RunReport, render_frames};
+pub use shard::{Shard, ShardChoice, ShardSource};
+
+/// What a tour is asked for.
+#[derive(Debug, Clone)]
+pub struct TourRequest {
+    /// The scan.
+    pub scan: PathBuf,
+    /// The path file (CSV or GeoJSON).
+    pub path: PathBuf,
+    /// How the scan is read (its `camera` and `origin` are the tour's to set).
+    pub prepare: PrepareOptions,
+    /// Eye height above the ground where the path gives no z, metres.
+    pub height: f64,
+    /// Frame spacing.
+    pub sampling: Sampling,
+    /// Metres of path the tangent heading is averaged over (0: the tangent itself).
+    pub heading_window: f64,
+    /// Degrees added to every heading (90 looks right of the direction of travel).
+    pub yaw_offset: f64,
+}
+
+/// A tour laid out on a loaded scan.
+#[derive(Debug, Clone)]
+pub struct Tour {
+    /// The scan, its local zero at [`Tour::origin`].
+    pub scene: Scene,
+    /// The local zero of every frame, file coordinates.
+    pub origin: DVec3,
+    /// Keyframes with their heights resolved, file coordinates (duplicates dropped).
+    pub keyframes: Vec<DVec3>,
+    /// Length of the curve, metres.
+    pub length: f64,
+    /// Every frame's camera.
+    pub poses: Vec<Pose>,
+    /// What loading the scan did (points dropped for bad coordinates).
+    pub load_report: crate::io::LoadReport,
+}
+
+/// Why a tour could not be laid out.
+#[derive(Debug, thiserror::Error)]
+pub enum TourError {
+    /// The path file could not be read.
+    #[error(transparent)]
+    Path(#[from] PathError),
+    /// The scan could not be read.
+    #[error(transparent)]
+    Prepare(#[from] PrepareError),
+    /// The path is readable but not usable on this scan.
+    #[error("{}: {message}", path.display())]
+    BadPath {
+        /// The path file.
+        path: PathBuf,
+        /// What is wrong, naming the line or feature.
+        message: String,
+    },
+}
+
+/// Reads the path, loads the scan once around a fixed origin (the centre of the path's
+/// keyframes, in whole metres) and places every frame on the curve. A path without heights
+/// walks `request.height` above the ground (sampled along the curve and smoothed; speed is
+/// then measured over the ground plan); a path with some heights puts the missing ones
+/// `request.height` above the ground under their keyframes.
+///
+/// # Errors
+/// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
+/// keyframe outside the scan's bounds, a non-zero pitch or roll (the renderers take a heading
+/// only), and the scan's loading errors.
+pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
+    let file = &request.path;
+    let bad = |message: String| TourError::BadPath {
+        path: file.clone(),
+        message,
+    };
+    let mut keyframes = path::read_path(file)?;
+    for k in &keyframes {
+        if k.pitch != 0.0 || k.roll != 0.0 {
+            return Err(bad(format!(
+                "{}: pitch {} and roll {} degrees: the renderers take a heading (yaw) only; \
+                 set pitch and roll to 0 or drop the columns",
+                k.at, k.pitch, k.roll
+            )));
+        }
+    }
+    // Consecutive repeats (common in exported lines) add nothing to the curve.
+    keyframes.dedup_by(|b, a| a.x == b.x && a.y == b.y && a.z == b.z);
+    if keyframes.len() < 2 {
+        let at = keyframes.first().map_or("", |k| k.at.as_str());
+        return Err(bad(format!(
+            "a path needs at least two distinct points; found one ({at})"
+        )));
+    }
+
+    let origin = path_origin(&keyframes, &request.scan);
+    let options = PrepareOptions {
+        origin: Some(origin),
+        camera: Some(origin),
+        ..request.prepare
+    };
+    let prepared = prepare(&request.scan, &options, progress)?;
+    let (scene, load_report) = (prepared.scene, prepared.report);
+    // The header's bounds when it has them (the numbers `omnicloud info` shows; in file axes,
+    // so not for a Y-up file), else the points'.
+    let header = (request.prepare.up == crate::io::Up::Z)
+        .then(|| header_bounds(&request.scan))
+        .flatten();
+    let (lo, hi) = header.unwrap_or_else(|| {
+        let (lo, hi) = scene
+            .bounds()
+            .expect("a prepared scene has at least one point");
+        (origin + lo.as_dvec3(), origin + hi.as_dvec3())
+    });
+    let ground = ground::GroundIndex::new(&scene);
+    // A path without any height walks over the ground; one with some heights keeps them
+    // and puts only the missing ones on the ground.
+    let follow_ground = keyframes.iter().all(|k| k.z.is_none());
+    let mut resolved = Vec::with_capacity(keyframes.len());
+    for k in &keyframes {
+        if !(lo.x..=hi.x).contains(&k.x) || !(lo.y..=hi.y).contains(&k.y) {
+            let degrees = k.x.abs() <= 180.0 && k.y.abs() <= 90.0 && hi.x.abs() > 360.0;
+            return Err(bad(format!(
+                "{}: ({}, {}) lies outside the scan's bounds x {:.3} .. {:.3}, y {:.3} .. {:.3} \
+                 of {}{}",
+                k.at,
+                k.x,
+                k.y,
+                lo.x,
+                hi.x,
+                lo.y,
+                hi.y,
+                request.scan.display(),
+                if degrees {
+                    " (the path looks like longitude/latitude: export it in the scan's \
+                     coordinate system)"
+                } else {
+                    ""
+                }
+            )));
+        }
+        let z = match k.z {
+            Some(z) => z,
+            None if follow_ground => 0.0,
+            None => {
+                let local = Vec2::new((k.x - origin.x) as f32, (k.y - origin.y) as f32);
+                let ground = ground.height(local).ok_or_else(|| {
+                    bad(format!(
+                        "{}: no ground found under ({}, {})",
+                        k.at, k.x, k.y
+                    ))
+                })?;
+                origin.z + ground + request.height
+            }
+        };
+        resolved.push(DVec3::new(k.x, k.y, z));
+    }
+    resolved.dedup();
+    let curve = spline::Spline::new(&resolved).ok_or_else(|| {
+        bad("a path needs at least two distinct points after heights are resolved".into())
+    })?;
+    let heading = match keyframes
+        .iter()
+        .map(|k| k.yaw)
+        .collect::<Option<Vec<f64>>>()
+    {
+        Some(yaws) if yaws.len() == resolved.len() => Heading::Keyframes(yaws),
+        _ => Heading::Tangent {
+            window: request.heading_window,
+        },
+    };
+    let mut poses = poses::sample(&curve, request.sampling, &heading, request.yaw_offset);
+    if follow_ground {
+        let local = |s: f64| curve.position(s) - origin;
+        let profile = ground::GroundProfile::new(&ground, curve.length(), local).map_err(|s| {
+            let p = curve.position(s);
+            bad(format!(
+                "no ground found under the path at ({:.3}, {:.3}), {s:.1} m from its start",
+                p.x, p.y
+            ))
+        })?;
+        let z = |s: f64| origin.z + profile.at(s) + request.height;
+        for pose in &mut poses {
+            pose.position[2] = z(pose.arc_length);
+        }
+        for (i, k) in resolved.iter_mut().enumerate() {
+            k.z = z(curve.keyframe_arc_length(i));
+        }
+    }
+    Ok(Tour {
+        scene,
+        origin,
+        keyframes: resolved,
+        length: curve.length(),
+        poses,
+        load_report,
+    })
+}
+
+/// The XY-plausible bounds of the scan's header, file coordinates.
+fn header_bounds(scan: &Path) -> Option<(DVec3, DVec3)> {
+    let (lo, hi) = crate::io::open(scan).ok()?.info().bounds?;
+    (lo.is_finite() && hi.is_finite() && lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
+}
+
+/// The tour's local zero: the centre of the keyframes' bounds in whole metres; its height
+/// from the keyframes that give one, else from the scan header's bounds (0 without them).
+fn path_origin(keyframes: &[Keyframe], scan: &Path) -> DVec3 {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for k in keyframes.iter() {
+        let p = DVec3::new(k.x, k.y, k.z.unwrap_or(f64::NAN));
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    let mut c = (lo + hi) * 0.5;
+    if !c.z.is_finite() {
+        c.z = header_bounds(scan).map_or(0.0, |(lo, hi)| (lo.z + hi.z) * 0.5);
+    }
+    c.round()
+}

@@ -1,0 +1,227 @@
+//! A prepared scan made ready to serve: its map, the box a camera may stand in, and the
+//! camera height above the ground at any XY.
+
+use std::path::Path;
+
+use glam::{DVec2, DVec3};
+use serde::Serialize;
+
+use crate::frame::Frame;
+use crate::output::png::encode_png;
+use crate::prepare::placement::{EYE_HEIGHT, ground_camera_position};
+use crate::projection::PoleMerge;
+use crate::render::{ColorMode, Shading};
+use crate::scene::Scene;
+
+use super::ServeError;
+use super::map::{MapGrid, render_map};
+use super::request::{CameraLimits, DEFAULT_IPD};
+
+/// How a scan is served; fixed when the server starts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LiveOptions {
+    /// Panorama width per eye, pixels (the height is half of it).
+    pub width: u32,
+    /// Camera height above the local ground, metres.
+    pub height: f64,
+    /// Point colour.
+    pub color: ColorMode,
+    /// Shading.
+    pub shading: Shading,
+    /// The map's longer side, pixels.
+    pub map_size: u32,
+}
+
+impl Default for LiveOptions {
+    fn default() -> Self {
+        LiveOptions {
+            width: 2048,
+            height: EYE_HEIGHT,
+            color: ColorMode::Auto,
+            shading: Shading::Unlit,
+            map_size: 1024,
+        }
+    }
+}
+
+/// A scan in memory, in the local frame preparation gave it, with its map.
+pub struct LiveScan {
+    /// The scene; its origin is the camera preparation placed (DESIGN §1).
+    pub scene: Scene,
+    /// The options it is served with.
+    pub options: LiveOptions,
+    /// Where a camera may stand, and the default camera.
+    pub limits: CameraLimits,
+    /// Pixel ↔ file XY of the map.
+    pub grid: MapGrid,
+    /// The map as PNG.
+    pub map_png: Vec<u8>,
+    /// What `/api/scan` answers.
+    pub info: ScanInfo,
+    /// Width of the scan's XY bounds (the ground search's largest radius), metres.
+    extent: f32,
+}
+
+/// The JSON of `/api/scan`. Coordinates are file coordinates (metres).
+#[derive(Debug, Clone, Serialize)]
+pub struct ScanInfo {
+    /// The scan's file name.
+    pub file: String,
+    /// Points held.
+    pub points: usize,
+    /// Lowest corner of the points' bounds.
+    pub min: [f64; 3],
+    /// Highest corner of the points' bounds.
+    pub max: [f64; 3],
+    /// The map's pixel grid: pixel centre `(i + 0.5, j + 0.5)` is file
+    /// `(x0 + (i + 0.5) * pixel, y1 - (j + 0.5) * pixel)`.
+    pub map: MapGrid,
+    /// The camera the page starts at: [`LiveOptions::height`] above the ground at the XY
+    /// preparation placed the camera at.
+    pub camera: [f64; 3],
+    /// Camera height above the ground, metres.
+    pub height: f64,
+    /// Panorama width per eye, pixels.
+    pub width: u32,
+    /// Default interocular distance, metres.
+    pub ipd: f64,
+    /// Default pole merging, as `/api/render`'s `north` and `south` spell it.
+    pub pole_merge: String,
+}
+
+impl LiveScan {
+    /// Draws the map and measures the bounds of a prepared scan's scene (`path` names it);
+    /// the camera preparation placed, the scene's origin, is the default camera.
+    ///
+    /// # Errors
+    /// The scan holds no point, the colour mode needs an attribute it lacks, or the map
+    /// cannot be encoded.
+    pub fn new(path: &Path, scene: Scene, options: LiveOptions) -> Result<Self, ServeError> {
+        let Some((lo, hi)) = scene.bounds() else {
+            return Err(ServeError::Empty {
+                path: path.to_path_buf(),
+            });
+        };
+        let (lo, hi) = (scene.origin + lo.as_dvec3(), scene.origin + hi.as_dvec3());
+        let grid = MapGrid::over(lo.truncate(), hi.truncate(), options.map_size);
+        let map = render_map(&scene, &grid, options.color)?;
+        let map_png = png_bytes(&map)?;
+        let default = scene.origin;
+        let limits = CameraLimits {
+            lo: lo.truncate(),
+            hi: hi.truncate(),
+            default: default.truncate(),
+        };
+        let info = ScanInfo {
+            file: path.file_name().map_or_else(
+                || path.display().to_string(),
+                |n| n.to_string_lossy().into(),
+            ),
+            points: scene.len(),
+            min: lo.to_array(),
+            max: hi.to_array(),
+            map: grid,
+            camera: default.to_array(),
+            height: options.height,
+            width: options.width,
+            ipd: DEFAULT_IPD,
+            pole_merge: spell(PoleMerge::COMFORTABLE),
+        };
+        let mut scan = LiveScan {
+            extent: (hi - lo).truncate().max_element() as f32,
+            scene,
+            options,
+            limits,
+            grid,
+            map_png,
+            info,
+        };
+        // Preparation stood the camera at the default eye height; the page starts at the
+        // served one.
+        if let Some(camera) = scan.camera_at(default.truncate()) {
+            scan.info.camera = camera.to_array();
+        }
+        Ok(scan)
+    }
+
+    /// The camera (file coordinates) [`LiveOptions::height`] above the ground at file `xy`:
+    /// the ground as automatic placement estimates it
+    /// ([`ground_camera_position`]); `None` when no point lies near enough to stand on.
+    pub fn camera_at(&self, xy: DVec2) -> Option<DVec3> {
+        let centre = (xy - self.scene.origin.truncate()).as_vec2();
+        let eye = ground_camera_position(&self.scene, centre, self.extent)?;
+        let ground = self.scene.origin.z + eye.z - EYE_HEIGHT;
+        Some(xy.extend(ground + self.options.height))
+    }
+}
+
+/// A profile as `--pole-merge` and `/api/render` spell it.
+fn spell(merge: PoleMerge) -> String {
+    match merge {
+        PoleMerge::Off => "off".into(),
+        PoleMerge::Marrinan {
+            start_deg,
+            end_deg,
+            exponent,
+        } => format!("marrinan:{start_deg},{end_deg},{exponent}"),
+        PoleMerge::Cycles { from_deg, to_deg } => format!("cycles:{from_deg},{to_deg}"),
+    }
+}
+
+/// A frame as PNG bytes.
+pub(super) fn png_bytes(frame: &Frame) -> Result<Vec<u8>, ServeError> {
+    let mut bytes = Vec::new();
+    encode_png(frame, None, &mut bytes, Path::new("(served image)"))?;
+    Ok(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// A 40 m x 20 m ground sloping up 0.1 m per metre eastwards, camera prepared at its
+    /// middle (file (1000, 2000)).
+    fn slope() -> Scene {
+        let mut pts = Vec::new();
+        for i in 0..=200 {
+            for j in 0..=100 {
+                let (x, y) = (i as f32 * 0.2 - 20.0, j as f32 * 0.2 - 10.0);
+                pts.push(Vec3::new(x, y, 0.1 * x - 1.7));
+            }
+        }
+        Scene::new(DVec3::new(1000.0, 2000.0, 50.0), pts, 0.1)
+    }
+
+    #[test]
+    fn the_camera_stands_its_height_above_the_ground_where_asked() {
+        let options = LiveOptions {
+            width: 256,
+            height: 3.0,
+            color: ColorMode::Elevation,
+            map_size: 80,
+            ..LiveOptions::default()
+        };
+        let scan = LiveScan::new(Path::new("/data/slope.laz"), slope(), options).unwrap();
+        assert_eq!(scan.info.file, "slope.laz");
+        assert_eq!(scan.limits.lo, DVec2::new(980.0, 1990.0));
+        assert_eq!(scan.limits.hi, DVec2::new(1020.0, 2010.0));
+        assert_eq!((scan.grid.width, scan.grid.height), (80, 40));
+        // Ground at file x: 50 - 1.7 + 0.1 (x - 1000).
+        for x in [990.0, 1000.0, 1012.5] {
+            let c = scan.camera_at(DVec2::new(x, 2003.0)).unwrap();
+            let ground = 48.3 + 0.1 * (x - 1000.0);
+            assert_eq!(c.truncate(), DVec2::new(x, 2003.0));
+            assert!((c.z - (ground + 3.0)).abs() < 0.05, "at {x}: {c}");
+        }
+        let png = image::load_from_memory(&scan.map_png).unwrap();
+        assert_eq!((png.width(), png.height()), (80, 40));
+        let json = serde_json::to_value(&scan.info).unwrap();
+        assert_eq!(json["pole_merge"], "marrinan:45,0,3");
+        assert_eq!(json["map"]["width"], 80);
+        // Prepared at 1.7 m above the ground, served at 3 m.
+        let camera: Vec<f64> = serde_json::from_value(json["camera"].clone()).unwrap();
+        assert_eq!(&camera[..2], &[1000.0, 2000.0]);
+        assert!((camera[2] - 51.3).abs() < 0.05, "{camera:?}");
+    }
+}

@@ -1,0 +1,243 @@
+//! `omnicloud info`: header-only by default, `--stats` for a pass over the points, `--json`
+//! for scripts, the coordinate system from the WKT VLR or the GeoTIFF keys.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn omnicloud(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn shared_data() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data")
+}
+
+fn json_of(out: &Output) -> Value {
+    let text = String::from_utf8_lossy(&out.stdout);
+    serde_json::from_str(text.trim()).unwrap_or_else(|e| panic!("{e}: {text}"))
+}
+
+/// `(min, max)` corners.
+type Corners = ([f64; 3], [f64; 3]);
+
+/// `(declared points, header bounds)` read independently of omnicloud: the `las` crate for
+/// LAS/LAZ, the `element vertex N` line for PLY (which has no bounds).
+fn header_truth(path: &Path) -> (u64, Option<Corners>) {
+    if path.extension().is_some_and(|e| e == "ply") {
+        let bytes = std::fs::read(path).unwrap();
+        let text = String::from_utf8_lossy(&bytes[..bytes.len().min(4096)]).into_owned();
+        let n = text
+            .lines()
+            .find_map(|l| l.strip_prefix("element vertex "))
+            .unwrap()
+            .trim()
+            .parse()
+            .unwrap();
+        return (n, None);
+    }
+    let reader = las::Reader::from_path(path).unwrap();
+    let h = reader.header();
+    let b = h.bounds();
+    (
+        h.number_of_points(),
+        Some(([b.min.x, b.min.y, b.min.z], [b.max.x, b.max.y, b.max.z])),
+    )
+}
+
+fn xyz(v: &Value) -> [f64; 3] {
+    let a = v.as_array().unwrap();
+    [0, 1, 2].map(|i| a[i].as_f64().unwrap())
+}
+
+#[test]
+fn json_of_every_shared_file_gives_the_header_count_and_bounds() {
+    let mut files = Vec::new();
+    for dir in ["las", "large", "ply"] {
+        for entry in std::fs::read_dir(shared_data().join(dir)).unwrap() {
+            let path = entry.unwrap().path();
+            let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase());
+            if matches!(ext.as_deref(), Some("las" | "laz" | "ply")) {
+                files.push(path);
+            }
+        }
+    }
+    assert!(files.len() >= 10, "{files:?}");
+    for path in files {
+        let name = path.display().to_string();
+        let out = omnicloud(&["info", "--json", &name]);
+        assert!(out.status.success(), "{name}: {out:?}");
+        let v = json_of(&out);
+        let (count, bounds) = header_truth(&path);
+        assert_eq!(v["point_count"].as_u64(), Some(count), "{name}");
+        assert_eq!(v["file"].as_str(), Some(name.as_str()));
+        assert_eq!(v["truncated"], Value::Bool(false), "{name}");
+        match bounds {
+            Some((lo, hi)) => {
+                // serde_json's default float parsing may be one ULP off.
+                let near = |a: [f64; 3], b: [f64; 3]| {
+                    (0..3).all(|i| (a[i] - b[i]).abs() <= 1e-12 * b[i].abs().max(1.0))
+                };
+                assert!(near(xyz(&v["bounds"]["min"]), lo), "{name}: {lo:?}");
+                assert!(near(xyz(&v["bounds"]["max"]), hi), "{name}: {hi:?}");
+                assert!(
+                    v["scale"].is_array() && v["point_format"].is_u64(),
+                    "{name}"
+                );
+            }
+            None => assert!(v["bounds"].is_null(), "{name}"),
+        }
+    }
+}
+
+#[test]
+fn the_sample_shows_its_crs_and_stats() {
+    let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+    let autzen = autzen.to_str().unwrap();
+    let out = omnicloud(&["info", autzen]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{out:?}");
+    assert!(
+        text.contains("crs:           NAD_1983_HARN_Lambert_Conformal_Conic"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("classes:"),
+        "no point pass without --stats: {text}"
+    );
+
+    let out = omnicloud(&["info", "--stats", "--json", autzen]);
+    assert!(out.status.success(), "{out:?}");
+    let v = json_of(&out);
+    let s = &v["stats"];
+    assert_eq!(s["points_read"], 110_000);
+    let classes: Vec<(u64, &str, u64)> = s["classes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            (
+                c["code"].as_u64().unwrap(),
+                c["name"].as_str().unwrap(),
+                c["count"].as_u64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        classes,
+        [(1, "unclassified", 83_893), (2, "ground", 26_107)]
+    );
+    // The per-point return numbers agree with the header's counts by return.
+    let by_return: Vec<u64> = s["return_numbers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["count"].as_u64().unwrap())
+        .collect();
+    assert_eq!(by_return, [99_257, 9_021, 1_623, 99]);
+    assert_eq!(
+        v["points_by_return"].as_array().unwrap().len(),
+        by_return.len()
+    );
+    assert_eq!(s["intensity"]["max"], 254);
+    assert_eq!(s["color_scale"], "8-bit values in 16-bit fields");
+    let spacing = s["spacing"].as_f64().unwrap();
+    assert!((spacing - 1.336).abs() < 0.01, "{spacing}");
+}
+
+/// A LAS 1.4 file with a WKT coordinate system, written with the `las` crate.
+fn write_las_with_wkt(path: &Path, wkt: &str) {
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = las::point::Format::new(6).unwrap();
+    let mut header = builder.into_header().unwrap();
+    header.set_wkt_crs(wkt.as_bytes().to_vec()).unwrap();
+    let mut writer = las::Writer::from_path(path, header).unwrap();
+    for i in 0..10 {
+        writer
+            .write_point(las::Point {
+                x: 1_000.0 + f64::from(i),
+                y: 2_000.0,
+                z: 10.0,
+                return_number: 1,
+                number_of_returns: 1,
+                gps_time: Some(0.0),
+                ..Default::default()
+            })
+            .unwrap();
+    }
+    writer.close().unwrap();
+}
+
+#[test]
+fn a_wkt_crs_is_printed_by_name_with_its_epsg_code() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("utm.las");
+    let wkt = r#"PROJCS["WGS 84 / UTM zone 10N",GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563,AUTHORITY["EPSG","7030"]],AUTHORITY["EPSG","6326"]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433],AUTHORITY["EPSG","4326"]],PROJECTION["Transverse_Mercator"],PARAMETER["central_meridian",-123],UNIT["metre",1],AUTHORITY["EPSG","32610"]]"#;
+    write_las_with_wkt(&path, wkt);
+    let name = path.to_str().unwrap();
+    let out = omnicloud(&["info", name]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("crs:           WGS 84 / UTM zone 10N (EPSG:32610, from the WKT VLR)"),
+        "{text}"
+    );
+    let v = json_of(&omnicloud(&["info", "--json", name]));
+    assert_eq!(v["crs"]["name"], "WGS 84 / UTM zone 10N");
+    assert_eq!(v["crs"]["epsg"], 32610);
+    assert_eq!(v["crs"]["source"], "wkt");
+    assert_eq!(v["crs"]["wkt"], wkt);
+    assert_eq!(v["version"], "1.4");
+    assert_eq!(v["point_count"], 10);
+}
+
+#[test]
+fn header_mode_reads_no_point_and_stats_report_truncation() {
+    let dir = tempfile::tempdir().unwrap();
+    // simple.las: 1,065 records of 34 bytes after a 227-byte header; cut inside the points.
+    let whole = std::fs::read(shared_data().join("las/simple.las")).unwrap();
+    let cut = dir.path().join("cut.las");
+    std::fs::write(&cut, &whole[..20_000]).unwrap();
+    let name = cut.to_str().unwrap();
+    let out = omnicloud(&["info", name]);
+    assert!(out.status.success(), "{out:?}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains(
+            "points:        1,065 declared, but the file holds only 581 records: truncated"
+        ),
+        "{text}"
+    );
+    let v = json_of(&omnicloud(&["info", "--json", name]));
+    assert_eq!(
+        (v["point_count"].as_u64(), v["records_in_file"].as_u64()),
+        (Some(1065), Some(581))
+    );
+    assert_eq!(v["truncated"], true);
+
+    let out = omnicloud(&["info", "--stats", name]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--stats") && err.contains("declares 1065 points but the file holds only 581"),
+        "{err}"
+    );
+
+    // A LAZ file cut in half: its header is still read; the point pass says what broke.
+    let whole =
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")).unwrap();
+    let cut = dir.path().join("cut.laz");
+    std::fs::write(&cut, &whole[..whole.len() / 2]).unwrap();
+    let name = cut.to_str().unwrap();
+    let v = json_of(&omnicloud(&["info", "--json", name]));
+    assert_eq!(v["point_count"], 110_000);
+    let out = omnicloud(&["info", "--stats", "--json", name]);
+    assert!(!out.status.success());
+    let v = json_of(&out);
+    let e = v["stats_error"].as_str().unwrap();
+    assert!(e.contains("truncated or corrupt"), "{e}");
+    assert!(v["stats"].is_null());
+}

@@ -1,0 +1,388 @@
+//! `omnicloud serve`'s HTTP API on the sample scan, in process on a free port: a render at a
+//! camera is the library's render there, pixel for pixel, and `omnicloud render`'s at the
+//! camera it reports; bad values get a 400 naming the field, a failed render a 500, and the
+//! server answers afterwards. Needs a GPU adapter (lavapipe will do): without one the tests
+//! skip loudly, and fail under `OMNICLOUD_REQUIRE_GPU=1`.
+#![cfg(all(feature = "web", feature = "gpu"))]
+
+#[path = "raster_common/gpu.rs"]
+mod gpu;
+mod http_common;
+
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use glam::{DVec2, DVec3};
+use http_common::{Reply, get, send};
+use indicatif::ProgressBar;
+use omnicloud::Scene;
+use omnicloud::prepare::placement::{EYE_HEIGHT, ground_camera_position};
+use omnicloud::prepare::{PrepareOptions, prepare};
+use omnicloud::projection::{Camera, Equirect, OdsOffset, PoleMerge, PoleMerging, Stereo};
+use omnicloud::raster::{RasterError, Rasterizer};
+use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
+use omnicloud::web::Running;
+use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError};
+
+/// Panorama width of the served renders.
+const WIDTH: u32 = 256;
+
+/// Under the tree canopy west of the bridge, where much of the scan lies above 45° latitude.
+const UNDER_TREES: (f64, f64) = (636291.76, 849305.2);
+
+fn sample() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
+}
+
+/// The sample prepared as `serve` prepares it (automatic camera, auto radius), once.
+fn scene() -> &'static Scene {
+    static SCENE: OnceLock<Scene> = OnceLock::new();
+    SCENE.get_or_init(|| {
+        prepare(
+            &sample(),
+            &PrepareOptions::default(),
+            &ProgressBar::hidden(),
+        )
+        .unwrap()
+        .scene
+    })
+}
+
+/// A live server of the sample at `width`; `None` (after the GPU rule's notice) without an
+/// adapter.
+fn start(width: u32) -> Option<Running> {
+    let options = LiveOptions {
+        width,
+        map_size: 256,
+        ..LiveOptions::default()
+    };
+    let scan = LiveScan::new(&sample(), scene().clone(), options).unwrap();
+    match LiveServer::bind("127.0.0.1", 0, scan) {
+        Ok(server) => Some(server.spawn()),
+        Err(ServeError::Raster(e @ RasterError::NoAdapter)) => {
+            gpu::require_or_skip(&format!("serve has no adapter: {e}"));
+            None
+        }
+        Err(e) => panic!("serve could not start: {e}"),
+    }
+}
+
+/// One server at [`WIDTH`] for the tests that need no other.
+fn shared() -> Option<SocketAddr> {
+    static SERVER: OnceLock<Option<Running>> = OnceLock::new();
+    SERVER
+        .get_or_init(|| start(WIDTH))
+        .as_ref()
+        .map(Running::addr)
+}
+
+fn assert_still_serving(addr: SocketAddr) {
+    let r = get(addr, "/api/scan");
+    assert_eq!(r.status, 200, "{}", r.text());
+}
+
+fn camera_header(r: &Reply) -> DVec3 {
+    let text = r.header("x-omnicloud-camera").expect("a camera header");
+    let v: Vec<f64> = text.split(',').map(|c| c.parse().unwrap()).collect();
+    DVec3::new(v[0], v[1], v[2])
+}
+
+#[test]
+fn bad_values_get_400_naming_the_field_and_serving_goes_on() {
+    let Some(addr) = shared() else { return };
+    let cases = [
+        (
+            "/api/render?x=NaN",
+            "x=\"NaN\": `NaN` is not a finite number",
+        ),
+        ("/api/render?y=inf", "y=\"inf\""),
+        ("/api/render?y=-Infinity", "y=\"-Infinity\""),
+        (
+            "/api/render?x=1000000",
+            "x=1000000: the camera must stand within the scan's bounds, x from 636001.760 to 637179.220",
+        ),
+        (
+            "/api/render?y=848935",
+            "y=848935: the camera must stand within",
+        ),
+        (
+            "/api/render?ipd=11",
+            "ipd=\"11\": the interocular distance must lie in 0..=10",
+        ),
+        ("/api/render?ipd=", "ipd=\"\""),
+        (
+            "/api/render?north=marrinan:10,20,3",
+            "north=\"marrinan:10,20,3\": marrinan angles are measured from the pole",
+        ),
+        (
+            "/api/render?south=sideways",
+            "south=\"sideways\": unknown pole merge",
+        ),
+        ("/api/render?north=marrinan:45,0", "north=\"marrinan:45,0\""),
+        ("/api/render?seq=-3", "seq=\"-3\""),
+        (
+            "/api/render?client=../x",
+            "client=\"../x\": expected up to 64 letters",
+        ),
+        ("/api/render?zoom=2", "unknown query parameter \"zoom\""),
+        ("/api/render?x=636500&x=636600", "given twice"),
+        ("/map.png?size=big", "takes none"),
+        ("/api/scan?verbose=1", "takes none"),
+    ];
+    for (target, message) in cases {
+        let r = get(addr, target);
+        assert_eq!(r.status, 400, "{target}: {}", r.text());
+        assert!(r.text().contains(message), "{target}: {}", r.text());
+        assert_still_serving(addr);
+    }
+    for target in [
+        "/../../etc/passwd",
+        "/%2e%2e/%2e%2e/etc/passwd",
+        "/..%5cCargo.toml",
+    ] {
+        let r = get(addr, target);
+        assert_eq!(r.status, 403, "{target}");
+        assert!(!r.text().contains("root:"), "{target} served /etc/passwd");
+    }
+    for target in [
+        "/etc/passwd",
+        "/data/autzen_trim.laz",
+        "/frames/0",
+        "/api/info",
+    ] {
+        assert_eq!(get(addr, target).status, 404, "{target}");
+    }
+    let post = send(
+        addr,
+        b"POST /api/render HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 0\r\nConnection: close\r\n\r\n",
+    );
+    assert_eq!(post.status, 405);
+    assert_still_serving(addr);
+}
+
+#[test]
+fn a_render_is_the_library_render_at_the_camera_it_reports() {
+    let Some(addr) = shared() else { return };
+    let scan: serde_json::Value = serde_json::from_slice(&get(addr, "/api/scan").body).unwrap();
+    assert_eq!(scan["file"], "autzen_trim.laz");
+    assert_eq!(scan["points"], 110_000);
+    assert_eq!(scan["width"], WIDTH);
+    // 1177 m x 563 m on 256 pixels across.
+    assert_eq!(scan["map"]["width"], 256);
+    assert_eq!(scan["map"]["height"], 123);
+    let map = get(addr, "/map.png");
+    assert_eq!(map.header("content-type").unwrap(), "image/png");
+    let map = image::load_from_memory(&map.body).unwrap().to_rgba8();
+    assert_eq!(map.dimensions(), (256, 123));
+    let covered = map.pixels().filter(|p| p[3] == 255).count();
+    assert!(
+        covered > 256 * 123 * 3 / 4,
+        "the map covers {covered} pixels"
+    );
+
+    let (x, y) = UNDER_TREES;
+    let r = get(
+        addr,
+        &format!("/api/render?x={x}&y={y}&ipd=0.07&north=marrinan:60,10,2&south=off&seq=5"),
+    );
+    assert_eq!(r.status, 200, "{}", r.text());
+    assert_eq!(r.header("content-type").unwrap(), "image/png");
+    assert_eq!(r.header("x-omnicloud-seq").unwrap(), "5");
+    let ms: f64 = r.header("x-omnicloud-render-ms").unwrap().parse().unwrap();
+    assert!(ms > 0.0);
+    let camera = camera_header(&r);
+    assert_eq!(
+        camera.truncate(),
+        DVec2::new(x, y),
+        "the camera stands where asked"
+    );
+    // Eye height above the ground automatic placement estimates there.
+    let scene = scene();
+    let local = (DVec2::new(x, y) - scene.origin.truncate()).as_vec2();
+    let size = |k: usize| scan["max"][k].as_f64().unwrap() - scan["min"][k].as_f64().unwrap();
+    let extent = size(0).max(size(1)) as f32;
+    let ground = ground_camera_position(scene, local, extent).unwrap().z - EYE_HEIGHT;
+    assert!(
+        (camera.z - (scene.origin.z + ground + 1.7)).abs() < 1e-6,
+        "camera {camera}, ground {ground}"
+    );
+
+    let served = image::load_from_memory(&r.body).unwrap().to_rgba8();
+    assert_eq!(served.dimensions(), (WIDTH, WIDTH));
+    let settings = RenderSettings {
+        image: Equirect::from_width(WIDTH),
+        camera: Camera::new(camera - scene.origin, 0.0),
+        stereo: Stereo::Ods {
+            ipd: 0.07,
+            merging: PoleMerging {
+                north: PoleMerge::Marrinan {
+                    start_deg: 60.0,
+                    end_deg: 10.0,
+                    exponent: 2.0,
+                },
+                south: PoleMerge::Off,
+            },
+            offset: OdsOffset::Exact,
+        },
+        color: ColorMode::Auto,
+        shading: Shading::Unlit,
+        proxy: Proxy::default(),
+        imposter: Imposter::default(),
+    };
+    let rasterizer = Rasterizer::new().unwrap();
+    let (rendered, _) = rasterizer
+        .render(scene, &settings, &ProgressBar::hidden())
+        .unwrap();
+    let library = rendered.top_bottom();
+    let served_pixels: Vec<[u8; 4]> = served.pixels().map(|p| p.0).collect();
+    assert_eq!(
+        served_pixels, library.color,
+        "served and library renders differ"
+    );
+    let coverage = library.coverage_count() as f64 / library.color.len() as f64;
+    assert!(coverage > 0.3, "coverage {coverage}");
+
+    #[cfg(feature = "cli")]
+    same_as_the_command(camera, &served_pixels);
+}
+
+/// `omnicloud render` at the reported camera draws the same pair: its points are centred on
+/// that camera in f64, the server's on the prepared one, so a few edge pixels may round the
+/// other way (measured: 7 of 65536).
+#[cfg(feature = "cli")]
+fn same_as_the_command(camera: DVec3, served: &[[u8; 4]]) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pair.png");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .arg("render")
+        .arg(sample())
+        .arg("-o")
+        .arg(&out)
+        .args([
+            "--width",
+            &WIDTH.to_string(),
+            "--stereo",
+            "ods",
+            "--ipd",
+            "0.07",
+        ])
+        .args([
+            "--pole-merge-north",
+            "marrinan:60,10,2",
+            "--pole-merge-south",
+            "off",
+        ])
+        .arg(format!("--camera={},{},{}", camera.x, camera.y, camera.z))
+        .arg("--quiet")
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let command = image::open(&out).unwrap().to_rgba8();
+    let differ = command
+        .pixels()
+        .zip(served)
+        .filter(|(a, b)| a.0 != **b)
+        .count();
+    let fraction = differ as f64 / served.len() as f64;
+    assert!(
+        fraction < 0.001,
+        "{differ} of {} pixels differ from omnicloud render",
+        served.len()
+    );
+}
+
+#[test]
+fn a_failed_render_gets_500_with_the_reason_and_serving_goes_on() {
+    // Wider than any adapter's textures: the render fails on the GPU side, not the request.
+    let Some(server) = start(65_536) else { return };
+    let addr = server.addr();
+    for _ in 0..2 {
+        let r = get(addr, "/api/render");
+        assert_eq!(r.status, 500, "{}", r.text());
+        assert!(
+            r.text()
+                .contains("the render failed: a 65536x32768 image needs 65536 but the GPU adapter allows at most"),
+            "{}",
+            r.text()
+        );
+        assert_still_serving(addr);
+    }
+}
+
+/// `omnicloud serve` itself: loads the scan, prints the address (and, bound to every
+/// interface, the warning), serves it, and stops on Ctrl-C (SIGINT).
+#[cfg(all(unix, feature = "cli"))]
+#[test]
+fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
+    use std::io::{BufRead, Read};
+    use std::process::{Command, Stdio};
+
+    if shared().is_none() {
+        return; // no adapter: the command would refuse to start
+    }
+    let mut child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args([
+            "serve", "--host", "0.0.0.0", "--port", "0", "--width", "256",
+        ])
+        .args(["--map-size", "128", "--height", "2.5"])
+        .arg(sample())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
+    let mut lines = Vec::new();
+    let url = loop {
+        let mut line = String::new();
+        assert!(
+            stdout.read_line(&mut line).unwrap() > 0,
+            "no address in {lines:?}"
+        );
+        if let Some(rest) = line.strip_prefix("open http://") {
+            break rest.split('/').next().unwrap().to_owned();
+        }
+        lines.push(line);
+    };
+    assert!(
+        lines[0]
+            .contains("autzen_trim.laz (110000 points, radius 0.6679 m, map 128x62, ODS 256x256"),
+        "{lines:?}"
+    );
+    let addr: SocketAddr = url.parse().unwrap();
+    assert!(addr.ip().is_loopback(), "{addr}");
+    let scan: serde_json::Value = serde_json::from_slice(&get(addr, "/api/scan").body).unwrap();
+    assert_eq!(scan["height"], 2.5);
+    let r = get(addr, "/api/render?seq=1");
+    assert_eq!(r.status, 200, "{}", r.text());
+    let camera = camera_header(&r);
+    let start: Vec<f64> = serde_json::from_value(scan["camera"].clone()).unwrap();
+    assert_eq!(
+        camera.to_array().to_vec(),
+        start,
+        "the page starts where /api/scan says"
+    );
+    // 2.5 m above the ground there, 0.8 m above the default eye height.
+    let at_eye_height = camera_header(&get(shared().unwrap(), "/api/render"));
+    assert_eq!(camera.truncate(), at_eye_height.truncate());
+    assert!(
+        (camera.z - at_eye_height.z - 0.8).abs() < 1e-9,
+        "{camera} vs {at_eye_height}"
+    );
+
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{out:?}");
+    let mut rest = String::new();
+    stdout.read_to_string(&mut rest).unwrap();
+    assert!(rest.contains("omnicloud serve: stopped"), "{rest}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("warning: listening on 0.0.0.0:"),
+        "{stderr}"
+    );
+}
