@@ -6,8 +6,9 @@
 //!
 //! Features: `gpu` (the wgpu rasterizer, [`raster`]), `charts` (benchmark charts and the
 //! comparison heatmap), `bench` (both, plus timing runs), `web` (the panorama viewer's
-//! server; with `gpu` also the live scan server), `cli` (all of them and the `omnicloud` binary; the default). Without them the library reads, prepares, ray-traces,
-//! streams, writes and compares scans.
+//! server; with `gpu` also the live scan server), `video` (360 videos: H.264 MP4 with
+//! Spherical Video V2 metadata), `cli` (all of them and the `omnicloud` binary; the default).
+//! Without them the library reads, prepares, ray-traces, streams, writes and compares scans.
 
 #[cfg(feature = "bench")]
 pub mod bench;
@@ -33,6 +34,8 @@ pub mod suite;
 pub mod synthetic;
 pub mod tour;
 pub mod value;
+#[cfg(feature = "video")]
+pub mod video;
 #[cfg(feature = "web")]
 pub mod web;
 

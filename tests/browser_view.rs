@@ -436,3 +436,155 @@ fn a_tour_folder_steps_and_plays_through_its_frames() {
     );
     assert_eq!(held, later, "paused playback still advances");
 }
+
+/// Colour of frame `k` of the video test, left eye (`eye` 0) or right: red counts frames.
+#[cfg(feature = "video")]
+fn video_colour(k: usize, eye: usize) -> [u8; 3] {
+    [
+        40 + 8 * k as u8,
+        if eye == 0 { 200 } else { 60 },
+        if eye == 0 { 60 } else { 200 },
+    ]
+}
+
+/// The frame a red value stands for (frames are 8 codes apart).
+#[cfg(feature = "video")]
+fn video_frame_of(red: u8) -> i64 {
+    ((f64::from(red) - 40.0) / 8.0).round() as i64
+}
+
+/// A 24-frame, 12 fps top-bottom MP4 of flat `video_colour` eyes, in `dir`.
+#[cfg(feature = "video")]
+fn colour_video(dir: &Path) -> std::path::PathBuf {
+    use omnicloud::video::{VideoOptions, encode_folder};
+    for k in 0..24 {
+        let frame = RgbImage::from_fn(256, 256, |_, j| Rgb(video_colour(k, (j >= 128) as usize)));
+        frame.save(dir.join(format!("frame_{k:06}.png"))).unwrap();
+    }
+    let mp4 = dir.join("tour.mp4");
+    let options = VideoOptions {
+        fps: Some(12.0),
+        ..VideoOptions::default()
+    };
+    encode_folder(dir, &mp4, &options, &indicatif::ProgressBar::hidden()).unwrap();
+    mp4
+}
+
+#[cfg(feature = "video")]
+#[test]
+fn an_mp4_plays_in_vr_with_each_eye_from_its_half() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let server = serve(&colour_video(dir.path()));
+    let chromium = launch(path);
+    let tab = open_viewer(
+        &chromium,
+        &format!("http://{}/", server.addr()),
+        Some(XR_STUB),
+    );
+    tab.wait_for_element("#enter-vr:not([disabled])")
+        .unwrap()
+        .click()
+        .unwrap();
+    js(&tab, "viewer.play()");
+    // Wait until the headset has drawn while the video is a few frames in.
+    js(
+        &tab,
+        "new Promise((resolve) => { const start = window.__xr.frames; const wait = () => \
+         viewer.frame() >= 4 && window.__xr.frames > start + 2 ? resolve() : setTimeout(wait, 20); \
+         wait(); })",
+    );
+    js(&tab, "viewer.pause()");
+    let frames = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => window.__xr.frames)",
+    );
+    assert!(frames.as_u64().unwrap() >= 3);
+    let (w, h) = page_size(&tab);
+    let shot = screenshot(&tab);
+    let left = shot.get_pixel(w / 4, h / 2).0;
+    let right = shot.get_pixel(3 * w / 4, h / 2).0;
+    eprintln!("VR: left eye {left:?}, right eye {right:?}");
+    // Each eye shows its own half of the pair (green-heavy left, blue-heavy right), of a
+    // frame past the first: the video played in the headset's frame loop.
+    assert!(left[1] > 190 && left[2] < 70, "left eye shows {left:?}");
+    assert!(right[1] < 70 && right[2] > 190, "right eye shows {right:?}");
+    assert!(video_frame_of(left[0]) >= 4, "left eye shows {left:?}");
+    assert_eq!(video_frame_of(left[0]), video_frame_of(right[0]));
+}
+
+#[cfg(feature = "video")]
+#[test]
+fn an_mp4_plays_as_the_panorama_with_its_stereo_from_st3d() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let server = serve(&colour_video(dir.path()));
+    let chromium = launch(path);
+    let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
+    let info = js(&tab, "viewer.info");
+    assert_eq!(info["kind"], "ods", "{info}");
+    assert_eq!(info["video"], serde_json::json!({"frames": 24, "fps": 12}));
+    let (w, h) = page_size(&tab);
+    let centre = |tab: &Tab| {
+        let p = screenshot(tab).get_pixel(w / 2, h / 2).0;
+        [p[0], p[1], p[2]]
+    };
+    // H.264 keeps a flat colour within a few codes (measured: 2).
+    let near = |got: [u8; 3], want: [u8; 3], what: &str| {
+        let d = got
+            .iter()
+            .zip(want)
+            .map(|(&a, b)| (i32::from(a) - i32::from(b)).abs())
+            .max()
+            .unwrap();
+        eprintln!("{what}: got {got:?}, expected {want:?}");
+        assert!(d <= 4, "{what}: got {got:?}, expected {want:?}");
+    };
+
+    // The first frame, left eye on top (st3d top-bottom); then the right eye.
+    near(centre(&tab), video_colour(0, 0), "frame 0, left eye");
+    js(&tab, "viewer.setMode('right')");
+    near(centre(&tab), video_colour(0, 1), "frame 0, right eye");
+    js(&tab, "viewer.setMode('mono')");
+
+    // The slider seeks.
+    js(&tab, "viewer.setFrame(10)");
+    near(centre(&tab), video_colour(10, 0), "frame 10");
+    assert_eq!(js(&tab, "document.getElementById('frame').value"), "10");
+    assert_eq!(
+        js(&tab, "document.getElementById('frame-label').textContent"),
+        "11 / 24"
+    );
+
+    // Play advances the video, the slider and the picture; pause holds them.
+    js(&tab, "viewer.setFrame(0)");
+    js(&tab, "viewer.play()");
+    let seen = js(
+        &tab,
+        "new Promise((resolve) => { const seen = []; const poll = () => { \
+         const f = viewer.frame(); if (seen[seen.length - 1] !== f) seen.push(f); \
+         if (seen.length >= 4) resolve(seen); else setTimeout(poll, 5); }; poll(); })",
+    );
+    let seen: Vec<i64> = serde_json::from_value(seen).unwrap();
+    eprintln!("frames seen while playing: {seen:?}");
+    // Forward, wrapping at most once (the video loops; a loaded machine may poll late).
+    let wraps = seen.windows(2).filter(|p| p[1] < p[0]).count();
+    assert!(wraps <= 1, "frames shown in order: {seen:?}");
+    let playing = centre(&tab);
+    let shown = video_frame_of(playing[0]);
+    assert!(shown >= 1, "the picture advanced with play: {playing:?}");
+    js(&tab, "viewer.pause()");
+    let held = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => [viewer.frame(), viewer.videoState().paused])",
+    );
+    let frame = held[0].as_u64().unwrap() as usize;
+    assert_eq!(held[1], true);
+    let shot = centre(&tab);
+    near(shot, video_colour(frame, 0), "paused frame");
+    let later = js(
+        &tab,
+        "new Promise((r) => setTimeout(r, 300)).then(() => viewer.frame())",
+    );
+    assert_eq!(held[0], later, "paused playback still advances");
+}

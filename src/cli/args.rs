@@ -44,6 +44,9 @@ pub enum Command {
     /// Render a scan live in the browser: pick camera positions on its map, tune IPD and
     /// pole merging, look around (and in VR, through WebXR).
     Serve(super::serve::ServeArgs),
+    /// Encode a folder of panorama frames (a tour) into an H.264 MP4 that 360 players show
+    /// as a sphere, in stereo for ODS frames.
+    Video(super::video::VideoArgs),
 }
 
 /// Scene, camera and stereo options shared by `render` and `bench`.

@@ -10,6 +10,7 @@ mod render_guard;
 mod render_stream;
 mod serve;
 mod tour;
+mod video;
 mod view;
 
 use anyhow::Result;
@@ -38,6 +39,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::View(args) => view::run(&args),
         Command::Tour(args) => tour::run(&args),
         Command::Serve(args) => serve::run(&args),
+        Command::Video(args) => video::run(&args),
     }
 }
 

@@ -96,6 +96,10 @@ pub struct TourArgs {
     /// No progress bar or summary.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Also encode the frames into this H.264 MP4 with 360 metadata once all are rendered
+    /// (as `omnicloud video`; with --shard, run that after the last shard instead).
+    #[arg(long, value_name = "OUT.mp4")]
+    pub video: Option<PathBuf>,
 }
 
 fn parse_positive(s: &str) -> Result<f64, String> {
@@ -130,6 +134,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
     if args.view.camera.is_some() {
         bail!("tour places the camera along --path: drop --camera");
     }
+    check_video(args)?;
     let shard = match args.shard {
         None => Shard::ALL,
         Some(ShardChoice::Given(s)) => s,
@@ -224,7 +229,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
     }
     if todo.is_empty() {
         say("nothing to render".to_string());
-        return Ok(());
+        return encode_video(args, &say);
     }
 
     let resident = Resident::new(&planned.scene, args.renderer, &settings).with_context(|| {
@@ -267,6 +272,53 @@ pub fn run(args: &TourArgs) -> Result<()> {
         ranges(&report.rendered),
         report.busy,
         report.sustained_fps()
+    ));
+    encode_video(args, &say)
+}
+
+/// Refuses `--video` before anything is loaded or rendered when the frames could not be
+/// encoded (too large for the encoder or H.264 level 5.1, odd sizes) or with `--shard`.
+fn check_video(args: &TourArgs) -> Result<()> {
+    let Some(out) = &args.video else {
+        return Ok(());
+    };
+    if args.shard.is_some() {
+        bail!(
+            "--video encodes the whole tour, and a shard renders part of it: once every shard \
+             has finished, run `omnicloud video {} -o {}`",
+            args.output.display(),
+            out.display()
+        );
+    }
+    let ods = args.view.stereo.unwrap_or_default() == StereoKind::Ods;
+    let height = if ods { args.width } else { args.width / 2 };
+    crate::video::level::level_for(args.width, height, args.fps, 0)
+        .with_context(|| format!("--video {} at --width {}", out.display(), args.width))?;
+    Ok(())
+}
+
+/// Encodes the tour's frames into `--video`, when asked.
+fn encode_video(args: &TourArgs, say: &impl Fn(String)) -> Result<()> {
+    let Some(out) = &args.video else {
+        return Ok(());
+    };
+    let options = crate::video::VideoOptions {
+        fps: Some(args.fps),
+        ..crate::video::VideoOptions::default()
+    };
+    let pb = progress::bar(args.quiet, 0, "encoding");
+    let report = crate::video::encode_folder(&args.output, out, &options, &pb)
+        .with_context(|| format!("encoding {} into {}", args.output.display(), out.display()))?;
+    say(format!(
+        "wrote {}: {} frames {}x{} at {} fps, {}, H.264 level {}, {}",
+        report.output.display(),
+        report.frames,
+        report.width,
+        report.height,
+        report.fps,
+        report.stereo.name(),
+        report.level.name,
+        bytesize::ByteSize(report.bytes)
     ));
     Ok(())
 }

@@ -11,8 +11,9 @@ use crate::web::{Panorama, ViewServer};
 /// Options of `omnicloud view`.
 #[derive(Debug, Args)]
 pub struct ViewerArgs {
-    /// A PNG/JPEG panorama (2:1 mono, or 1:1 ODS top-bottom, left eye on top), or a folder of
-    /// frames (its frame_*.png/.jpg files, in name order).
+    /// A PNG/JPEG panorama (2:1 mono, or 1:1 ODS top-bottom, left eye on top), a folder of
+    /// frames (its frame_*.png/.jpg files, in name order), or an MP4 video (mono or
+    /// top-bottom as its st3d box says).
     #[arg(value_name = "FILE|DIR")]
     pub path: PathBuf,
     /// Address to listen on: 127.0.0.1 keeps it on this machine; 0.0.0.0 lets a headset on
@@ -31,14 +32,18 @@ pub struct ViewerArgs {
 pub fn run(args: &ViewerArgs) -> Result<()> {
     let panorama = Panorama::open(&args.path)?;
     let summary = format!(
-        "{} {}x{}, {} frame(s)",
+        "{} {}x{}, {} frame(s){}",
         match panorama.kind {
             crate::web::PanoramaKind::Mono => "mono",
             crate::web::PanoramaKind::Ods => "ODS top-bottom",
         },
         panorama.width,
         panorama.height,
-        panorama.frames.len()
+        panorama.frame_count(),
+        match panorama.video {
+            Some(v) => format!(" of H.264 video at {} fps", v.fps),
+            None => String::new(),
+        }
     );
     let server = ViewServer::bind(&args.host, args.port, panorama)?;
     let addr = server.addr();

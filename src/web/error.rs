@@ -21,6 +21,14 @@ pub enum WebError {
         /// What the decoder said.
         reason: String,
     },
+    /// An MP4 file the viewer cannot play as a panorama.
+    #[error("cannot show {path} as a 360 video: {reason}")]
+    NotAVideo {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// The image's shape is neither 2:1 (mono) nor 1:1 (ODS top-bottom).
     #[error(
         "{path} is {width}x{height}: expected a 2:1 mono panorama or a 1:1 top-bottom ODS pair"

@@ -1,4 +1,5 @@
-//! The panoramas a viewer serves: one image, or the frames of a tour folder, all of one shape.
+//! The panoramas a viewer serves: one image, the frames of a tour folder, all of one shape,
+//! or an MP4 video (mono or top-bottom as its `st3d` box says).
 
 use std::path::{Path, PathBuf};
 
@@ -35,6 +36,8 @@ pub enum ImageType {
     Png,
     /// `.jpg` or `.jpeg`
     Jpeg,
+    /// `.mp4`, an H.264 video
+    Mp4,
 }
 
 impl ImageType {
@@ -44,6 +47,7 @@ impl ImageType {
         match ext.as_str() {
             "png" => Some(Self::Png),
             "jpg" | "jpeg" => Some(Self::Jpeg),
+            "mp4" => Some(Self::Mp4),
             _ => None,
         }
     }
@@ -53,6 +57,7 @@ impl ImageType {
         match self {
             Self::Png => "image/png",
             Self::Jpeg => "image/jpeg",
+            Self::Mp4 => "video/mp4",
         }
     }
 }
@@ -75,8 +80,19 @@ pub struct Panorama {
     pub width: u32,
     /// Height of every frame in pixels.
     pub height: u32,
-    /// The frames, in playing order; never empty.
+    /// The frames, in playing order; never empty. A video has one entry: the MP4 file.
     pub frames: Vec<FrameFile>,
+    /// For an MP4: its frame count and rate.
+    pub video: Option<VideoTrack>,
+}
+
+/// What the page needs to know of an MP4 to step through it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct VideoTrack {
+    /// Number of frames.
+    pub frames: usize,
+    /// Frames per second.
+    pub fps: f64,
 }
 
 /// The JSON of `/api/info`.
@@ -90,6 +106,9 @@ pub struct PanoramaInfo {
     pub height: u32,
     /// Number of frames (1 for a single image).
     pub frames: usize,
+    /// For an MP4 (served at `/video`): its frame count and rate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub video: Option<VideoTrack>,
 }
 
 impl Panorama {
@@ -106,9 +125,12 @@ impl Panorama {
             let Some(image_type) = ImageType::of(path) else {
                 return Err(WebError::NotAnImage {
                     path: path.to_path_buf(),
-                    reason: "the name does not end in .png, .jpg or .jpeg".into(),
+                    reason: "the name does not end in .png, .jpg, .jpeg or .mp4".into(),
                 });
             };
+            if image_type == ImageType::Mp4 {
+                return Self::from_video(path);
+            }
             let frame = FrameFile {
                 path: path.to_path_buf(),
                 image_type,
@@ -147,7 +169,65 @@ impl Panorama {
             width,
             height,
             frames,
+            video: None,
         })
+    }
+
+    /// An MP4 video: size, frame count and rate from its index; mono or top-bottom from its
+    /// `st3d` box, or, without one, from its shape as for images.
+    #[cfg(feature = "video")]
+    fn from_video(path: &Path) -> Result<Self, WebError> {
+        use crate::video::StereoLayout;
+        let not_video = |reason: String| WebError::NotAVideo {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let info = crate::video::read_video_info(path).map_err(|e| not_video(e.to_string()))?;
+        let (width, height) = (info.width, info.height);
+        let kind = match (info.stereo_mode, info.stereo()) {
+            (None, _) => PanoramaKind::from_size(width, height).ok_or_else(|| WebError::Shape {
+                path: path.to_path_buf(),
+                width,
+                height,
+            })?,
+            (Some(_), Some(StereoLayout::Mono)) => PanoramaKind::Mono,
+            (Some(_), Some(StereoLayout::TopBottom)) => PanoramaKind::Ods,
+            (Some(mode), None) => {
+                return Err(not_video(format!(
+                    "its st3d box says stereo mode {mode}; the viewer shows mono (0) and \
+                     top-bottom (1) videos"
+                )));
+            }
+        };
+        if info.frames == 0 || !(info.fps.is_finite() && info.fps > 0.0) {
+            return Err(not_video("the video has no frames".into()));
+        }
+        Ok(Self {
+            kind,
+            width,
+            height,
+            frames: vec![FrameFile {
+                path: path.to_path_buf(),
+                image_type: ImageType::Mp4,
+            }],
+            video: Some(VideoTrack {
+                frames: info.frames,
+                fps: info.fps,
+            }),
+        })
+    }
+
+    #[cfg(not(feature = "video"))]
+    fn from_video(path: &Path) -> Result<Self, WebError> {
+        Err(WebError::NotAVideo {
+            path: path.to_path_buf(),
+            reason: "this omnicloud was built without the `video` feature".into(),
+        })
+    }
+
+    /// How many frames the page can show: the video's, else the images'.
+    pub fn frame_count(&self) -> usize {
+        self.video.map_or(self.frames.len(), |v| v.frames)
     }
 
     /// What `/api/info` answers.
@@ -156,7 +236,8 @@ impl Panorama {
             kind: self.kind,
             width: self.width,
             height: self.height,
-            frames: self.frames.len(),
+            frames: self.frame_count(),
+            video: self.video,
         }
     }
 }
@@ -172,6 +253,7 @@ fn folder_frames(dir: &Path) -> Result<Vec<FrameFile>, WebError> {
         let entry = entry.map_err(read)?;
         let path = entry.path();
         if let Some(image_type) = ImageType::of(&path)
+            && image_type != ImageType::Mp4
             && entry.file_type().map_err(read)?.is_file()
         {
             images.push(FrameFile { path, image_type });

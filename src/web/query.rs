@@ -52,7 +52,7 @@ pub fn check_view(query: &str, panorama: &Panorama) -> Result<(), String> {
                 }
             }
             "frame" => {
-                let count = panorama.frames.len();
+                let count = panorama.frame_count();
                 match value.parse::<usize>() {
                     Ok(n) if n < count => {}
                     _ => {
@@ -93,6 +93,7 @@ mod tests {
             width: 8,
             height: 4,
             frames: vec![frame; frames],
+            video: None,
         }
     }
 

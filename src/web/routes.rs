@@ -1,6 +1,7 @@
 //! From a request line to a reply, without sockets: which address serves what.
 //!
-//! Addresses are a fixed set (`/`, `/viewer.js`, `/api/info`, `/frames/N`); no part of a URL
+//! Addresses are a fixed set (`/`, `/viewer.js`, `/api/info`, `/frames/N`, `/video` for an
+//! MP4, which the server sends in byte ranges as video elements ask); no part of a URL
 //! is ever joined to a file path, so only the files the viewer was given can be served.
 //! Paths that try to climb (`..`, also percent-encoded) get 403, everything else unknown 404.
 
@@ -9,7 +10,7 @@ use std::path::PathBuf;
 use percent_encoding::percent_decode_str;
 
 use super::assets;
-use super::panorama::Panorama;
+use super::panorama::{ImageType, Panorama};
 use super::query;
 
 /// The body of a reply.
@@ -19,7 +20,8 @@ pub enum Body {
     Static(&'static str),
     /// Text made for this request (JSON, error messages).
     Text(String),
-    /// A served image file, read when the reply is sent.
+    /// A served image or video file, read when the reply is sent (in the byte range the
+    /// request asks for, if any).
     File(PathBuf),
     /// Bytes made for this request (a rendered image).
     Bytes(Vec<u8>),
@@ -114,7 +116,20 @@ pub fn route(method: &str, url: &str, panorama: &Panorama) -> Reply {
             Body::Static(assets::VIEWER_JS),
         )),
         "/api/info" => no_query(Reply::json(&panorama.info())),
+        "/video" => no_query(match panorama.video {
+            Some(_) => Reply::ok(
+                ImageType::Mp4.mime(),
+                Body::File(panorama.frames[0].path.clone()),
+            ),
+            None => Reply::error(
+                404,
+                "this panorama is not a video: its frames are at /frames/N",
+            ),
+        }),
         p => match p.strip_prefix("/frames/") {
+            Some(_) if panorama.video.is_some() => {
+                Reply::error(404, "this panorama is a video: it is served at /video")
+            }
             Some(index) => no_query(frame(index, panorama)),
             None => Reply::error(404, format!("no such page: {path}")),
         },
@@ -163,7 +178,44 @@ mod tests {
             width: 8,
             height: 8,
             frames: vec![frame(0), frame(1)],
+            video: None,
         }
+    }
+
+    fn video() -> Panorama {
+        Panorama {
+            kind: PanoramaKind::Mono,
+            width: 16,
+            height: 8,
+            frames: vec![FrameFile {
+                path: "/data/tour.mp4".into(),
+                image_type: ImageType::Mp4,
+            }],
+            video: Some(crate::web::panorama::VideoTrack {
+                frames: 12,
+                fps: 24.0,
+            }),
+        }
+    }
+
+    #[test]
+    fn a_video_is_served_at_its_own_address_only() {
+        let v = video();
+        let r = route("GET", "/video", &v);
+        assert_eq!(r.body, Body::File("/data/tour.mp4".into()));
+        assert_eq!(r.content_type, "video/mp4");
+        assert_eq!(route("GET", "/frames/0", &v).status, 404);
+        assert_eq!(route("GET", "/video?x=1", &v).status, 400);
+        assert_eq!(route("GET", "/video", &panorama()).status, 404);
+        assert_eq!(
+            route("GET", "/api/info", &v).body,
+            Body::Text(
+                r#"{"kind":"mono","width":16,"height":8,"frames":12,"video":{"frames":12,"fps":24.0}}"#
+                    .into()
+            )
+        );
+        assert_eq!(route("GET", "/?frame=11", &v).status, 200);
+        assert_eq!(route("GET", "/?frame=12", &v).status, 400);
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //! answer with a route function ([`routes::route`](super::routes::route) for `view`) until
 //! stopped.
 
+use std::io::Read;
 use std::net::{SocketAddr, TcpListener};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -164,11 +165,15 @@ fn answer(
     loopback_only: bool,
     route: &(dyn Fn(&str, &str) -> Reply + Sync),
 ) {
-    let host = request
-        .headers()
-        .iter()
-        .find(|h| h.field.equiv("Host"))
-        .map(|h| h.value.as_str().to_owned());
+    let header = |name: &'static str| {
+        request
+            .headers()
+            .iter()
+            .find(|h| h.field.equiv(name))
+            .map(|h| h.value.as_str().to_owned())
+    };
+    let host = header("Host");
+    let range = header("Range");
     let reply = if loopback_only && !loopback_host(host.as_deref()) {
         Reply::error(
             403,
@@ -198,13 +203,50 @@ fn answer(
             reply.content_type,
             extra,
         )),
-        Body::File(path) => match std::fs::File::open(&path) {
-            Ok(file) => request.respond(with_headers(
-                Response::from_file(file),
-                reply.status,
-                reply.content_type,
-                extra,
-            )),
+        Body::File(path) => match open_range(&path, range.as_deref()) {
+            Ok((file, FileRange::Whole(len))) => request.respond(
+                with_headers(
+                    Response::new(
+                        200.into(),
+                        Vec::new(),
+                        file.take(len),
+                        Some(len as usize),
+                        None,
+                    ),
+                    reply.status,
+                    reply.content_type,
+                    extra,
+                )
+                .with_header(header_pair("Accept-Ranges", "bytes")),
+            ),
+            Ok((file, FileRange::Part { start, end, len })) => request.respond(
+                with_headers(
+                    Response::new(
+                        206.into(),
+                        Vec::new(),
+                        file.take(end - start + 1),
+                        Some((end - start + 1) as usize),
+                        None,
+                    ),
+                    206,
+                    reply.content_type,
+                    extra,
+                )
+                .with_header(header_pair("Accept-Ranges", "bytes"))
+                .with_header(header_pair(
+                    "Content-Range",
+                    &format!("bytes {start}-{end}/{len}"),
+                )),
+            ),
+            Ok((_, FileRange::Unsatisfiable(len))) => request.respond(
+                with_headers(
+                    Response::from_data(format!("the file has {len} bytes\n")),
+                    416,
+                    "text/plain; charset=utf-8",
+                    &[],
+                )
+                .with_header(header_pair("Content-Range", &format!("bytes */{len}"))),
+            ),
             Err(e) => request.respond(with_headers(
                 Response::from_data(format!("cannot read {}: {e}\n", path.display())),
                 500,
@@ -213,6 +255,73 @@ fn answer(
             )),
         },
     };
+}
+
+/// The part of a file a reply sends.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FileRange {
+    /// All of its `len` bytes.
+    Whole(u64),
+    /// Bytes `start..=end` of `len`.
+    Part { start: u64, end: u64, len: u64 },
+    /// A range that starts past the end of `len` bytes.
+    Unsatisfiable(u64),
+}
+
+/// Opens `path` positioned at the start of the part `range` (a `Range` header) asks for.
+fn open_range(
+    path: &std::path::Path,
+    range: Option<&str>,
+) -> std::io::Result<(std::fs::File, FileRange)> {
+    use std::io::{Seek, SeekFrom};
+    let mut file = std::fs::File::open(path)?;
+    let len = file.metadata()?.len();
+    let part = range.map_or(FileRange::Whole(len), |r| byte_range(r, len));
+    if let FileRange::Part { start, .. } = part {
+        file.seek(SeekFrom::Start(start))?;
+    }
+    Ok((file, part))
+}
+
+/// Reads a `Range: bytes=...` header for a file of `len` bytes. One range is served; a form
+/// this server does not serve (several ranges, other units, garbage) gets the whole file, as
+/// RFC 9110 allows.
+fn byte_range(header: &str, len: u64) -> FileRange {
+    let Some(spec) = header.trim().strip_prefix("bytes=") else {
+        return FileRange::Whole(len);
+    };
+    let Some((first, last)) = spec.trim().split_once('-') else {
+        return FileRange::Whole(len);
+    };
+    if spec.contains(',') {
+        return FileRange::Whole(len);
+    }
+    let number = |s: &str| s.trim().parse::<u64>().ok();
+    match (first.trim().is_empty(), number(first), number(last)) {
+        // `bytes=-N`: the last N bytes.
+        (true, _, Some(n)) if n > 0 && len > 0 => FileRange::Part {
+            start: len.saturating_sub(n),
+            end: len - 1,
+            len,
+        },
+        (true, _, _) => FileRange::Unsatisfiable(len),
+        (false, Some(start), _) if start >= len => FileRange::Unsatisfiable(len),
+        (false, Some(start), None) if last.trim().is_empty() => FileRange::Part {
+            start,
+            end: len - 1,
+            len,
+        },
+        (false, Some(start), Some(end)) if end >= start => FileRange::Part {
+            start,
+            end: end.min(len - 1),
+            len,
+        },
+        _ => FileRange::Whole(len),
+    }
+}
+
+fn header_pair(name: &str, value: &str) -> Header {
+    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
 }
 
 fn with_headers<R: std::io::Read>(
@@ -240,4 +349,37 @@ fn with_headers<R: std::io::Read>(
             "Content-Security-Policy",
             "default-src 'self'; img-src 'self' blob:; style-src 'self' 'unsafe-inline'",
         ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn byte_ranges_follow_rfc_9110() {
+        let part = |start, end| FileRange::Part {
+            start,
+            end,
+            len: 1000,
+        };
+        assert_eq!(byte_range("bytes=0-", 1000), part(0, 999));
+        assert_eq!(byte_range("bytes=100-199", 1000), part(100, 199));
+        assert_eq!(byte_range("bytes=900-5000", 1000), part(900, 999));
+        assert_eq!(byte_range("bytes=-100", 1000), part(900, 999));
+        assert_eq!(byte_range("bytes=-5000", 1000), part(0, 999));
+        assert_eq!(
+            byte_range("bytes=1000-", 1000),
+            FileRange::Unsatisfiable(1000)
+        );
+        assert_eq!(byte_range("bytes=-0", 1000), FileRange::Unsatisfiable(1000));
+        for whole in [
+            "items=0-1",
+            "bytes=0-1,5-6",
+            "bytes=5-1",
+            "bytes=a-b",
+            "bytes=5",
+        ] {
+            assert_eq!(byte_range(whole, 1000), FileRange::Whole(1000), "{whole}");
+        }
+    }
 }

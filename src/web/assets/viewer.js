@@ -3,6 +3,9 @@
 // no seam and no pole pinch. Directions follow DESIGN.md: longitude 0 at the image centre
 // (the heading), +90 degrees to the right; latitude +90 on the top row.
 //
+// An MP4 (`/video`) plays through a <video> element whose current frame is uploaded as the
+// texture each time it changes; the frame slider seeks it to the middle of frame N.
+//
 // Space of the rays: x right, y up, -z forward (WebXR's reference space), so for a
 // panorama direction d: longitude = atan2(d.x, -d.z), latitude = asin(d.y).
 'use strict';
@@ -275,10 +278,88 @@
   }
 
   let showing = 0;  // the latest frame request wins
+
+  // ---- video ----
+
+  let video = null;  // the <video> element when the panorama is an MP4
+
+  // Loads /video into a muted, inline <video> (muted: browsers let it play without a click).
+  function openVideo() {
+    video = document.createElement('video');
+    video.muted = true;
+    video.playsInline = true;
+    video.preload = 'auto';
+    video.loop = true;
+    const loaded = new Promise((resolve, reject) => {
+      video.addEventListener('loadeddata', resolve, { once: true });
+      video.addEventListener('error', () => {
+        const e = video.error;
+        reject(new Error(`/video: the browser cannot play it (${e ? e.message || 'code ' + e.code : 'error'})`));
+      }, { once: true });
+    });
+    video.src = '/video';
+    return loaded;
+  }
+
+  function uploadVideo() {
+    gl.bindTexture(gl.TEXTURE_2D, texture);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE, video);
+    textureHeight = video.videoHeight;
+  }
+
+  // The frame on show at the video's current time.
+  function videoFrame() {
+    const { frames, fps } = viewer.info.video;
+    return Math.max(0, Math.min(frames - 1, Math.floor(video.currentTime * fps + 1e-6)));
+  }
+
+  function showSlider(n) {
+    state.frame = n;
+    $('frame').value = String(n);
+    $('frame-label').textContent = `${n + 1} / ${viewer.info.frames}`;
+  }
+
+  // Seeks to the middle of frame n; settles once that frame can be drawn.
+  function seekVideo(n) {
+    return new Promise((resolve, reject) => {
+      const onSeeked = () => { video.removeEventListener('error', onError); resolve(); };
+      const onError = () => { video.removeEventListener('seeked', onSeeked); reject(new Error('/video: seeking failed')); };
+      video.addEventListener('seeked', onSeeked, { once: true });
+      video.addEventListener('error', onError, { once: true });
+      video.currentTime = (n + 0.5) / viewer.info.video.fps;
+    });
+  }
+
+  async function showVideoFrame(n, token) {
+    if (!video.paused) video.pause();
+    await seekVideo(n);
+    if (token !== showing) return;
+    uploadVideo();
+    showSlider(n);
+    await requestDraw();
+  }
+
+  // While playing: each new video frame becomes the texture (the headset's frame loop also
+  // uploads, since a page's own animation frames may pause in VR).
+  function followVideo() {
+    if (!playing) return;
+    uploadVideo();
+    showSlider(videoFrame());
+    requestDraw();
+    if (video.requestVideoFrameCallback) video.requestVideoFrameCallback(followVideo);
+    else requestAnimationFrame(followVideo);
+  }
+
   async function showFrame(n) {
     const token = ++showing;
     const count = viewer.info.frames;
     n = Math.max(0, Math.min(count - 1, Math.trunc(n)));
+    if (video) {
+      if (playing) stop(false);
+      return showVideoFrame(n, token);
+    }
     let image;
     try {
       image = await bitmap(n);
@@ -303,9 +384,31 @@
   // ---- playback ----
 
   let playing = false;
+
+  // Stops playback; a video settles on the frame the slider shows unless `snap` is false.
+  function stop(snap = true) {
+    playing = false;
+    $('play').textContent = 'Play';
+    if (video && !video.paused) {
+      video.pause();
+      if (snap) showFrame(videoFrame()).catch(() => {});
+    }
+  }
+
   async function play() {
     playing = true;
     $('play').textContent = 'Pause';
+    if (video) {
+      try {
+        await video.play();
+      } catch (e) {
+        stop();
+        statusLine.textContent = `/video: ${e.message || e}`;
+        throw e;
+      }
+      followVideo();
+      return;
+    }
     while (playing) {
       const started = performance.now();
       const fps = Math.max(1, Math.min(60, Number($('fps').value) || 10));
@@ -368,7 +471,7 @@
       clampView();
       requestDraw();
     } else if (e.key === ' ' && viewer.info && viewer.info.frames > 1) {
-      if (playing) playing = false; else play();
+      if (playing) stop(); else play().catch(() => {});
     } else {
       return;
     }
@@ -377,7 +480,7 @@
   window.addEventListener('resize', () => requestDraw());
   $('mode').addEventListener('change', () => viewer.setMode($('mode').value));
   $('frame').addEventListener('input', () => showFrame(Number($('frame').value)).catch(() => {}));
-  $('play').addEventListener('click', () => { if (playing) playing = false; else play(); });
+  $('play').addEventListener('click', () => { if (playing) stop(); else play().catch(() => {}); });
 
   // ---- WebXR ----
 
@@ -432,6 +535,7 @@
     xr.session.requestAnimationFrame(drawXR);
     const pose = frame.getViewerPose(xr.space);
     if (!pose) return;
+    if (video && playing) uploadVideo();
     const layer = xr.session.renderState.baseLayer;
     gl.bindFramebuffer(gl.FRAMEBUFFER, layer.framebuffer);
     const heading = rotY(-xr.yaw);
@@ -469,6 +573,12 @@
   viewer.mode = () => state.mode;
   viewer.setFrame = (n) => showFrame(n);
   viewer.frame = () => state.frame;
+  // Starts or stops playback (a tour folder or a video); `play` settles once it runs.
+  viewer.play = () => (playing ? Promise.resolve() : play());
+  viewer.pause = () => stop();
+  viewer.playing = () => playing;
+  // For a video: its element's time in seconds and whether it is paused.
+  viewer.videoState = () => (video ? { time: video.currentTime, paused: video.paused } : null);
 
   // Shows `image` (an ImageBitmap decoded without colour-space conversion or premultiplied
   // alpha, at most viewer.maxTexture on a side) as the panorama: `kind` 'mono' (2:1) or
@@ -510,6 +620,11 @@
     if (frames > 1) {
       $('tour').hidden = false;
       $('frame').max = String(frames - 1);
+    }
+    if (viewer.info.video) {
+      // A video plays at its own rate.
+      $('fps').parentElement.hidden = true;
+      await openVideo();
     }
     clampView();
     await showFrame(params.has('frame') ? Number(params.get('frame')) : 0);
