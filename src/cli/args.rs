@@ -10,7 +10,7 @@ use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
 use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
-use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
+use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
 use super::parse;
 
@@ -206,9 +206,47 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+    /// Eye-dome lighting: darkens the far side of depth edges so that shapes read without
+    /// colour or lights (Potree's formula, neighbours in angle); STRENGTH defaults to 1.
+    #[arg(
+        long,
+        value_name = "STRENGTH",
+        num_args = 0..=1,
+        default_missing_value = "1",
+        value_parser = crate::render::edl::parse_strength
+    )]
+    pub edl: Option<f32>,
+    /// Eye-dome lighting's neighbour distance, in output pixels.
+    #[arg(long, value_name = "PIXELS", default_value = "1.4", value_parser = crate::render::edl::parse_radius)]
+    pub edl_radius: f32,
+    /// Render N x N samples per pixel and average them in linear light (smooth edges; alpha
+    /// becomes the covered fraction, depth the nearest sample).
+    #[arg(long, value_name = "N", default_value = "1", value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub supersample: u32,
+    /// Background: #rrggbb, r,g,b (0-255), black, white, grey, or transparent [default:
+    /// transparent in PNG and EXR, black in JPEG].
+    #[arg(long, value_name = "COLOR|transparent")]
+    pub background: Option<Background>,
 }
 
 impl RenderArgs {
+    /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
+    pub fn look(&self) -> Look {
+        Look {
+            edl: self.edl.map(|strength| Edl {
+                strength,
+                radius: self.edl_radius,
+            }),
+            supersample: self.supersample,
+            background: self.background,
+        }
+    }
+
+    /// Width the renderer draws per eye: `--width` times `--supersample`.
+    pub fn render_width(&self) -> u32 {
+        self.width.saturating_mul(self.supersample.max(1))
+    }
+
     /// Every input file, the first first.
     pub fn inputs(&self) -> Vec<PathBuf> {
         std::iter::once(self.file.clone())
