@@ -23,7 +23,7 @@ pub const MAX_FACTOR: u32 = 8;
 /// When `n` is 0 or does not divide the frame's width and height.
 pub fn reduce(frame: &Frame, n: u32) -> Frame {
     assert!(
-        n > 0 && frame.width % n == 0 && frame.height % n == 0,
+        n > 0 && frame.width.is_multiple_of(n) && frame.height.is_multiple_of(n),
         "supersampling factor {n} does not divide {}x{}",
         frame.width,
         frame.height
