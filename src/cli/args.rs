@@ -543,6 +543,48 @@ mod tests {
     }
 
     #[test]
+    fn picture_options_parse_with_their_defaults() {
+        let parse = |extra: &[&str]| {
+            let argv = ["omnicloud", "render", "a.las", "-o", "x.png"]
+                .iter()
+                .chain(extra);
+            match Cli::try_parse_from(argv).map(|c| c.command) {
+                Ok(Command::Render(r)) => Ok(r.look()),
+                Ok(_) => panic!("not render"),
+                Err(e) => Err(e.to_string()),
+            }
+        };
+        assert_eq!(
+            parse(&[]).unwrap(),
+            Look {
+                supersample: 1,
+                ..Look::default()
+            }
+        );
+        let edl = |l: Look| l.edl.map(|e| (e.strength, e.radius));
+        assert_eq!(edl(parse(&["--edl"]).unwrap()), Some((1.0, 1.4)));
+        assert_eq!(
+            edl(parse(&["--edl", "0.5", "--edl-radius", "2"]).unwrap()),
+            Some((0.5, 2.0))
+        );
+        let l = parse(&["--supersample", "3", "--background", "#000000"]).unwrap();
+        assert_eq!(l.supersample, 3);
+        assert_eq!(l.background, Some(Background::Color([0, 0, 0])));
+        for (bad, why) in [
+            (&["--supersample", "9"][..], "1..=8"),
+            (&["--edl=-1"], ">= 0"),
+            (&["--edl-radius", "0"], "above 0"),
+        ] {
+            let e = parse(bad).unwrap_err();
+            assert!(e.contains(why), "{bad:?}: {e}");
+        }
+        let e = Cli::try_parse_from(["omnicloud", "render", "--edl", "a.las", "-o", "x.png"])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--edl=1"), "{e}");
+    }
+
+    #[test]
     fn bad_values_are_rejected_with_the_reason() {
         let e = Cli::try_parse_from([
             "omnicloud",
