@@ -61,13 +61,15 @@ fn a_depth_step_darkens_its_far_side_and_wraps_at_the_seam() {
 
 #[test]
 fn a_gentle_slope_darkens_by_the_formula_and_strength_zero_not_at_all() {
-    // 1% more distance per column eastward: the west, north-west and south-west neighbours
-    // (one column west at radius 1.4) are each log2(1.01) nearer.
+    // 1% more distance per column eastward: the west neighbour (1.4 columns west) and the
+    // north-west and south-west ones (1.4 cos 45° columns) are nearer by their column offset
+    // times log2(1.01) (interpolated between columns).
     let base = frame(|i, _| 10.0 * 1.01f32.powi(i as i32 % 64));
     let f = shaded(base.clone());
-    let shade = (-300.0 * 3.0 * 1.01f32.log2() / 8.0).exp();
+    let columns = 1.4 * (1.0 + 2.0 * std::f32::consts::FRAC_1_SQRT_2);
+    let shade = (-300.0 * columns * 1.01f32.log2() / 8.0).exp();
     let expected = linear_to_srgb(srgb_to_linear(200) * shade);
-    assert_eq!(expected, 95);
+    assert_eq!(expected, 86);
     for j in [31, 32] {
         let g = grey_at(&f, 30, j);
         assert!(g.abs_diff(expected) <= 1, "row {j}: {g}");

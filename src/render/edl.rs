@@ -18,8 +18,10 @@
 //! the radius in pixels of the output image times its latitude step `π / height`. Near the
 //! poles the east-west neighbours are thus many columns away (a pixel there spans little
 //! angle); a neighbour across the seam wraps to the other edge, and one past a pole lands on
-//! the opposite meridian. Each neighbour is the pixel containing that direction. Background
-//! pixels, coverage and depth are left as they are.
+//! the opposite meridian. A neighbour's `log2 d` is interpolated bilinearly between the four
+//! pixel centres around its direction when all four are covered (so that the varying column
+//! offsets of the rows make no bands on smooth surfaces), else the value of the pixel containing
+//! that direction. Background pixels, coverage and depth are left as they are.
 
 use std::f64::consts::{PI, TAU};
 
@@ -96,9 +98,8 @@ impl Edl {
                         continue;
                     }
                     let mut sum = 0.0f32;
-                    for &(nj, di) in &offsets[j] {
-                        let ni = (i as i64 + di).rem_euclid(w as i64) as usize;
-                        let n = log_depth[nj as usize * w + ni];
+                    for n in &offsets[j] {
+                        let n = n.log_depth(&log_depth, w, i);
                         // NaN (background) compares false: skipped.
                         if n < l {
                             sum += l - n;
@@ -146,11 +147,52 @@ pub fn parse_radius(s: &str) -> Result<f32, String> {
     }
 }
 
-/// For each row, each neighbour's row and column offset. Rotation about the polar axis moves
-/// a pixel's neighbours with it, so the offsets depend on the row only.
-pub fn neighbour_offsets(width: u32, height: u32, angle: f64) -> Vec<[(u32, i64); NEIGHBOURS]> {
+/// Where one neighbour of the pixels of a row lies, relative to the pixel's column.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Neighbour {
+    /// Row of the pixel containing the neighbour's direction.
+    pub row: u32,
+    /// Column offset of that pixel.
+    pub col: i64,
+    /// Rows above and below the direction, between pixel centres (equal at the edges).
+    rows: [u32; 2],
+    /// Column offset of the pixel centre west of the direction.
+    col_west: i64,
+    /// Fractions east of `col_west` and below `rows[0]`.
+    frac: [f32; 2],
+}
+
+impl Neighbour {
+    /// The neighbour's log-depth for the pixel in column `i`: bilinear between the four
+    /// pixel centres around its direction when all four are covered, else the value of the
+    /// pixel containing it (NaN for background).
+    #[inline]
+    fn log_depth(&self, log_depth: &[f32], w: usize, i: usize) -> f32 {
+        let col = |off: i64| (i as i64 + off).rem_euclid(w as i64) as usize;
+        let (c0, c1) = (col(self.col_west), col(self.col_west + 1));
+        let [r0, r1] = self.rows.map(|r| r as usize * w);
+        let q = [
+            log_depth[r0 + c0],
+            log_depth[r0 + c1],
+            log_depth[r1 + c0],
+            log_depth[r1 + c1],
+        ];
+        if q.iter().any(|v| v.is_nan()) {
+            return log_depth[self.row as usize * w + col(self.col)];
+        }
+        let [fx, fy] = self.frac;
+        let top = q[0] + (q[1] - q[0]) * fx;
+        let bottom = q[2] + (q[3] - q[2]) * fx;
+        top + (bottom - top) * fy
+    }
+}
+
+/// For each row, where each neighbour lies. Rotation about the polar axis moves a pixel's
+/// neighbours with it, so they depend on the row only.
+pub fn neighbour_offsets(width: u32, height: u32, angle: f64) -> Vec<[Neighbour; NEIGHBOURS]> {
     let (w, h) = (width as f64, height as f64);
     let (sr, cr) = angle.sin_cos();
+    let last = height - 1;
     (0..height)
         .map(|j| {
             let phi = (0.5 - (j as f64 + 0.5) / h) * PI;
@@ -166,10 +208,19 @@ pub fn neighbour_offsets(width: u32, height: u32, angle: f64) -> Vec<[(u32, i64)
                 let lam = q[0].atan2(q[1]);
                 let phi_q = q[2].clamp(-1.0, 1.0).asin();
                 let y = (0.5 - phi_q / PI) * h;
-                let row = (y.floor().max(0.0) as u32).min(height - 1);
-                // Pixel i's centre is at x = i + 0.5; the neighbour's column is floor(x + dx).
+                // Pixel i's centre is at x = i + 0.5: the neighbour is at x = i + 0.5 + dx.
                 let dx = lam / TAU * w;
-                (row, (0.5 + dx).floor() as i64)
+                let row = (y.floor().max(0.0) as u32).min(last);
+                let (sy, sx) = (y - 0.5, dx.floor());
+                let r0 = sy.floor();
+                let clamp = |r: f64| (r.max(0.0) as u32).min(last);
+                Neighbour {
+                    row,
+                    col: (0.5 + dx).floor() as i64,
+                    rows: [clamp(r0), clamp(r0 + 1.0)],
+                    col_west: sx as i64,
+                    frac: [(dx - sx) as f32, (sy - r0) as f32],
+                }
             })
         })
         .collect()
@@ -183,21 +234,43 @@ mod tests {
     fn offsets_at_the_equator_are_the_radius_in_pixels() {
         // 64 x 32: one pixel is pi/32 in both directions at the equator.
         let o = neighbour_offsets(64, 32, 1.4 * PI / 32.0);
+        let at = |k: usize| (o[16][k].row, o[16][k].col);
         // Row 16 is just below the equator; east is one column on, north one row up.
-        assert_eq!(o[16][0], (16, 1));
-        assert_eq!(o[16][2], (15, 0));
-        assert_eq!(o[16][4], (16, -1));
-        assert_eq!(o[16][6], (17, 0));
+        assert_eq!(at(0), (16, 1));
+        assert_eq!(at(2), (15, 0));
+        assert_eq!(at(4), (16, -1));
+        assert_eq!(at(6), (17, 0));
+        // Interpolated: 1.4 columns east lies between columns +1 and +2.
+        assert_eq!(o[16][0].col_west, 1);
+        assert!((o[16][0].frac[0] - 0.4).abs() < 0.01, "{:?}", o[16][0]);
     }
 
     #[test]
     fn a_neighbour_past_the_pole_is_on_the_opposite_meridian() {
         let o = neighbour_offsets(64, 32, 1.4 * PI / 32.0);
         // Row 0's centre is pi/64 from the north pole; 1.4 pixels north crosses it.
-        let (row, di) = o[0][2];
-        assert_eq!(row, 0);
-        assert_eq!(di.rem_euclid(64), 32);
+        let n = o[0][2];
+        assert_eq!(n.row, 0);
+        assert_eq!(n.col.rem_euclid(64), 32);
         // Far east at the top row: many columns away.
-        assert!(o[0][0].1 > 5, "{:?}", o[0][0]);
+        assert!(o[0][0].col > 5, "{:?}", o[0][0]);
+    }
+
+    #[test]
+    fn smooth_depth_is_interpolated_between_pixels() {
+        let n = Neighbour {
+            row: 0,
+            col: 1,
+            rows: [0, 1],
+            col_west: 0,
+            frac: [0.25, 0.5],
+        };
+        let ld = [1.0, 2.0, 3.0, 4.0];
+        // Columns 0 and 1 of a 2 x 2 image, from column 0.
+        assert_eq!(n.log_depth(&ld, 2, 0), 1.0 + 0.25 + 1.0);
+        // One background corner: the containing pixel's value.
+        let ld = [1.0, f32::NAN, 3.0, 4.0];
+        assert!(n.log_depth(&ld, 2, 0).is_nan());
+        assert_eq!(n.log_depth(&ld, 2, 1), 1.0);
     }
 }
