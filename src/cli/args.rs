@@ -206,6 +206,45 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+    /// Eye-dome lighting, supersampling, background.
+    #[command(flatten)]
+    pub look: LookArgs,
+}
+
+impl RenderArgs {
+    /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
+    pub fn look(&self) -> Look {
+        self.look.look()
+    }
+
+    /// Width the renderer draws per eye: `--width` times `--supersample`.
+    pub fn render_width(&self) -> u32 {
+        self.width.saturating_mul(self.look.supersample.max(1))
+    }
+
+    /// Every input file, the first first.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(self.file.clone())
+            .chain(self.more_files.iter().cloned())
+            .collect()
+    }
+
+    /// How the summary names the inputs: the file, or the first and how many more.
+    pub fn inputs_name(&self) -> String {
+        match self.more_files.len() {
+            0 => self.file.display().to_string(),
+            n => format!(
+                "{} (+{n} more file{})",
+                self.file.display(),
+                if n == 1 { "" } else { "s" }
+            ),
+        }
+    }
+}
+
+/// The passes on rendered frames, shared by `render` and `tour`.
+#[derive(Debug, Args)]
+pub struct LookArgs {
     /// Eye-dome lighting: darkens the far side of depth edges so that shapes read without
     /// colour or lights (Potree's formula, neighbours in angle); STRENGTH defaults to 1.
     #[arg(
@@ -229,7 +268,7 @@ pub struct RenderArgs {
     pub background: Option<Background>,
 }
 
-impl RenderArgs {
+impl LookArgs {
     /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
     pub fn look(&self) -> Look {
         Look {
@@ -242,28 +281,27 @@ impl RenderArgs {
         }
     }
 
-    /// Width the renderer draws per eye: `--width` times `--supersample`.
-    pub fn render_width(&self) -> u32 {
-        self.width.saturating_mul(self.supersample.max(1))
-    }
-
-    /// Every input file, the first first.
-    pub fn inputs(&self) -> Vec<PathBuf> {
-        std::iter::once(self.file.clone())
-            .chain(self.more_files.iter().cloned())
-            .collect()
-    }
-
-    /// How the summary names the inputs: the file, or the first and how many more.
-    pub fn inputs_name(&self) -> String {
-        match self.more_files.len() {
-            0 => self.file.display().to_string(),
-            n => format!(
-                "{} (+{n} more file{})",
-                self.file.display(),
-                if n == 1 { "" } else { "s" }
-            ),
+    /// The options as `omnicloud render` reads them back; none when they are the defaults.
+    pub fn render_options(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if let Some(s) = self.edl {
+            a.push(format!("--edl={s}"));
+            a.push(format!("--edl-radius={}", self.edl_radius));
         }
+        if self.supersample > 1 {
+            a.push(format!("--supersample={}", self.supersample));
+        }
+        match self.background {
+            Some(Background::Color([r, g, b])) => a.push(format!("--background={r},{g},{b}")),
+            Some(Background::Transparent) => a.push("--background=transparent".into()),
+            None => {}
+        }
+        a
+    }
+
+    /// True when a JPEG cannot hold the result (a transparent background was asked for).
+    pub fn wants_alpha(&self) -> bool {
+        self.background == Some(Background::Transparent)
     }
 }
 

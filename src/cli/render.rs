@@ -10,7 +10,7 @@ use indicatif::ProgressBar;
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{FilterCounts, PrepareOptions, Prepared, prepare_files, subsample};
 use crate::projection::{Camera, Stereo, StereoKind};
-use crate::render::{Background, RenderSettings, RendererKind};
+use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};
@@ -38,9 +38,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.anaglyph.is_some() && !stereo {
         bail!("--anaglyph needs --stereo ods (a mono panorama has no second eye)");
     }
-    if args.background == Some(Background::Transparent)
-        && matches!(format, ImageFormat::Jpeg | ImageFormat::VrJpeg)
-    {
+    if args.look.wants_alpha() && matches!(format, ImageFormat::Jpeg | ImageFormat::VrJpeg) {
         bail!(
             "{}: a JPEG has no alpha, so its background cannot be transparent: write a .png or \
              .exr, or give a colour (--background black)",
@@ -76,14 +74,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
         (None, RendererKind::Raster) => super::render_stream::rasterize(args, &settings, &say)?,
     };
-    if args.supersample > 1 {
+    if args.look.supersample > 1 {
         say(format!(
             "supersample {n}x{n}: rendered {}x{} per eye, reduced to {}x{}",
             image.width,
             image.height,
             args.width,
             args.width / 2,
-            n = args.supersample
+            n = args.look.supersample
         ));
     }
     let rendered = look.finish(rendered);
