@@ -7,7 +7,8 @@ pub struct Frame {
     pub width: u32,
     /// Height in pixels.
     pub height: u32,
-    /// Row-major sRGB-encoded colour; alpha is 255 where a sphere was hit, 0 for background.
+    /// Row-major sRGB-encoded colour; alpha is 255 where a sphere was hit, 0 for background
+    /// (the covered fraction after supersampling, colour then not premultiplied).
     pub color: Vec<[u8; 4]>,
     /// Row-major distance along the pixel's ray to the hit, metres; `f32::INFINITY` for background.
     pub depth: Vec<f32>,

@@ -10,7 +10,7 @@ use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
 use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
-use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
+use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
 use super::parse;
 
@@ -209,9 +209,22 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+    /// Eye-dome lighting, supersampling, background.
+    #[command(flatten)]
+    pub look: LookArgs,
 }
 
 impl RenderArgs {
+    /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
+    pub fn look(&self) -> Look {
+        self.look.look()
+    }
+
+    /// Width the renderer draws per eye: `--width` times `--supersample`.
+    pub fn render_width(&self) -> u32 {
+        self.width.saturating_mul(self.look.supersample.max(1))
+    }
+
     /// Every input file, the first first.
     pub fn inputs(&self) -> Vec<PathBuf> {
         std::iter::once(self.file.clone())
@@ -229,6 +242,69 @@ impl RenderArgs {
                 if n == 1 { "" } else { "s" }
             ),
         }
+    }
+}
+
+/// The passes on rendered frames, shared by `render` and `tour`.
+#[derive(Debug, Args)]
+pub struct LookArgs {
+    /// Eye-dome lighting: darkens the far side of depth edges so that shapes read without
+    /// colour or lights (Potree's formula, neighbours in angle); STRENGTH defaults to 1.
+    #[arg(
+        long,
+        value_name = "STRENGTH",
+        num_args = 0..=1,
+        default_missing_value = "1",
+        value_parser = crate::render::edl::parse_strength
+    )]
+    pub edl: Option<f32>,
+    /// Eye-dome lighting's neighbour distance, in output pixels.
+    #[arg(long, value_name = "PIXELS", default_value = "1.4", value_parser = crate::render::edl::parse_radius)]
+    pub edl_radius: f32,
+    /// Render N x N samples per pixel and average them in linear light (smooth edges; alpha
+    /// becomes the covered fraction, depth the nearest sample).
+    #[arg(long, value_name = "N", default_value = "1", value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub supersample: u32,
+    /// Background: #rrggbb, r,g,b (0-255), black, white, grey, or transparent [default:
+    /// transparent in PNG and EXR, black in JPEG].
+    #[arg(long, value_name = "COLOR|transparent")]
+    pub background: Option<Background>,
+}
+
+impl LookArgs {
+    /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
+    pub fn look(&self) -> Look {
+        Look {
+            edl: self.edl.map(|strength| Edl {
+                strength,
+                radius: self.edl_radius,
+            }),
+            supersample: self.supersample,
+            background: self.background,
+        }
+    }
+
+    /// The options as `omnicloud render` reads them back; none when they are the defaults.
+    pub fn render_options(&self) -> Vec<String> {
+        let mut a = Vec::new();
+        if let Some(s) = self.edl {
+            a.push(format!("--edl={s}"));
+            a.push(format!("--edl-radius={}", self.edl_radius));
+        }
+        if self.supersample > 1 {
+            a.push(format!("--supersample={}", self.supersample));
+        }
+        match self.background {
+            Some(Background::Color([r, g, b])) => a.push(format!("--background={r},{g},{b}")),
+            Some(Background::Transparent) => a.push("--background=transparent".into()),
+            None => {}
+        }
+        a
+    }
+
+    /// True when a JPEG cannot hold the result (a transparent background was asked for).
+    pub fn wants_alpha(&self) -> bool {
+        self.background == Some(Background::Transparent)
     }
 }
 
@@ -505,6 +581,48 @@ mod tests {
             panic!("not info")
         };
         assert!(i.stats && i.json && i.files.len() == 2);
+    }
+
+    #[test]
+    fn picture_options_parse_with_their_defaults() {
+        let parse = |extra: &[&str]| {
+            let argv = ["omnicloud", "render", "a.las", "-o", "x.png"]
+                .iter()
+                .chain(extra);
+            match Cli::try_parse_from(argv).map(|c| c.command) {
+                Ok(Command::Render(r)) => Ok(r.look()),
+                Ok(_) => panic!("not render"),
+                Err(e) => Err(e.to_string()),
+            }
+        };
+        assert_eq!(
+            parse(&[]).unwrap(),
+            Look {
+                supersample: 1,
+                ..Look::default()
+            }
+        );
+        let edl = |l: Look| l.edl.map(|e| (e.strength, e.radius));
+        assert_eq!(edl(parse(&["--edl"]).unwrap()), Some((1.0, 1.4)));
+        assert_eq!(
+            edl(parse(&["--edl", "0.5", "--edl-radius", "2"]).unwrap()),
+            Some((0.5, 2.0))
+        );
+        let l = parse(&["--supersample", "3", "--background", "#000000"]).unwrap();
+        assert_eq!(l.supersample, 3);
+        assert_eq!(l.background, Some(Background::Color([0, 0, 0])));
+        for (bad, why) in [
+            (&["--supersample", "9"][..], "1..=8"),
+            (&["--edl=-1"], ">= 0"),
+            (&["--edl-radius", "0"], "above 0"),
+        ] {
+            let e = parse(bad).unwrap_err();
+            assert!(e.contains(why), "{bad:?}: {e}");
+        }
+        let e = Cli::try_parse_from(["omnicloud", "render", "--edl", "a.las", "-o", "x.png"])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("--edl=1"), "{e}");
     }
 
     #[test]

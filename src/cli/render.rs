@@ -9,7 +9,7 @@ use indicatif::ProgressBar;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{FilterCounts, PrepareOptions, Prepared, prepare_files, subsample};
-use crate::projection::{Camera, Equirect, Stereo, StereoKind};
+use crate::projection::{Camera, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::tour::Resident;
@@ -38,6 +38,15 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if args.anaglyph.is_some() && !stereo {
         bail!("--anaglyph needs --stereo ods (a mono panorama has no second eye)");
     }
+    if args.look.wants_alpha() && matches!(format, ImageFormat::Jpeg | ImageFormat::VrJpeg) {
+        bail!(
+            "{}: a JPEG has no alpha, so its background cannot be transparent: write a .png or \
+             .exr, or give a colour (--background black)",
+            args.output.display()
+        );
+    }
+    let look = args.look();
+    let image = look.render_image(args.width)?;
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");
@@ -50,7 +59,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
 
     let settings = RenderSettings {
-        image: Equirect::from_width(args.width),
+        image,
         // Scenes are centred on the camera: it sits at the local origin.
         camera: Camera::new(DVec3::ZERO, args.view.yaw),
         stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
@@ -65,6 +74,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
         (None, RendererKind::Raster) => super::render_stream::rasterize(args, &settings, &say)?,
     };
+    if args.look.supersample > 1 {
+        say(format!(
+            "supersample {n}x{n}: rendered {}x{} per eye, reduced to {}x{}",
+            image.width,
+            image.height,
+            args.width,
+            args.width / 2,
+            n = args.look.supersample
+        ));
+    }
+    let rendered = look.finish(rendered);
     say(format!("rendered in {:.2?}", render_start.elapsed()));
 
     let layout = if args.separate_eyes {

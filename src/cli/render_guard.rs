@@ -30,12 +30,12 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     let info = inputs_info(args)?;
     let estimate = match args.subsample {
         Some(Subsample::Auto) => {
-            memory::raytrace_estimate(info.point_count, 0, args.width, args.view.eyes())
+            memory::raytrace_estimate(info.point_count, 0, args.render_width(), args.view.eyes())
         }
         Some(Subsample::Every(n)) => {
-            memory::raytrace_estimate_for(&info, n, args.width, args.view.eyes())
+            memory::raytrace_estimate_for(&info, n, args.render_width(), args.view.eyes())
         }
-        None => memory::raytrace_estimate_for(&info, 1, args.width, args.view.eyes()),
+        None => memory::raytrace_estimate_for(&info, 1, args.render_width(), args.view.eyes()),
     };
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
@@ -62,7 +62,7 @@ pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Sce
     let estimate = memory::raytrace_estimate(
         info.point_count,
         scene.len() as u64,
-        args.width,
+        args.render_width(),
         args.view.eyes(),
     );
     check_budget(&args.file, &estimate, cap, is_default)?;

@@ -54,7 +54,7 @@ pub(super) fn rasterize(
     };
     let chunk_points = match cap {
         Some(cap) => {
-            memory::raster_chunk_points(&args.file, args.width, eyes, cap, cap_is_default)?
+            memory::raster_chunk_points(&args.file, args.render_width(), eyes, cap, cap_is_default)?
         }
         None => stream::DEFAULT_CHUNK_POINTS,
     };

@@ -15,7 +15,7 @@ use crate::tour::{
     self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
 };
 
-use super::args::ViewArgs;
+use super::args::{LookArgs, ViewArgs};
 use super::{parse, progress};
 
 /// Options of `omnicloud tour`.
@@ -90,6 +90,9 @@ pub struct TourArgs {
     /// Rasterizer fragments.
     #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
     pub imposter: Imposter,
+    /// Eye-dome lighting, supersampling, background (as `render` takes them).
+    #[command(flatten)]
+    pub look: LookArgs,
     /// Memory cap for the ray tracer, e.g. 2G (default: 80% of the available memory).
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
     pub max_memory: Option<u64>,
@@ -135,6 +138,13 @@ pub fn run(args: &TourArgs) -> Result<()> {
         bail!("tour places the camera along --path: drop --camera");
     }
     check_video(args)?;
+    if args.look.wants_alpha() && args.format == FrameFormat::Jpg {
+        bail!(
+            "a JPEG has no alpha, so its background cannot be transparent: use --format png \
+             or exr, or give a colour (--background black)"
+        );
+    }
+    args.look.look().render_image(args.width)?;
     let shard = match args.shard {
         None => Shard::ALL,
         Some(ShardChoice::Given(s)) => s,
@@ -203,6 +213,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
         fps: args.fps,
         overwrite: args.overwrite,
         render_command: render_command(args),
+        look: args.look.look(),
     };
     let manifest = tour::run::manifest(&request, &planned, &options);
     let written = manifest.write(&args.output)?;
@@ -336,7 +347,8 @@ fn check_memory(args: &TourArgs) -> Result<()> {
         },
     };
     let info = crate::io::open(&args.file)?.info().clone();
-    let estimate = memory::raytrace_estimate_for(&info, 1, args.width, args.view.eyes());
+    let width = args.width.saturating_mul(args.look.supersample.max(1));
+    let estimate = memory::raytrace_estimate_for(&info, 1, width, args.view.eyes());
     memory::check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
 }
@@ -417,6 +429,7 @@ fn render_command(args: &TourArgs) -> Vec<String> {
             name(&|| args.imposter.to_possible_value())
         ));
     }
+    a.extend(args.look.render_options());
     if args.format == FrameFormat::Jpg {
         a.push(format!("--quality={}", args.quality));
     }

@@ -46,14 +46,16 @@ const DUBOIS_RIGHT: [[f32; 3]; 3] = [
 ];
 
 fn linear(c: [u8; 4]) -> [f32; 3] {
-    // Background pixels may carry any colour with alpha 0: they show as black.
+    // Background pixels may carry any colour with alpha 0: they show as black; partly
+    // covered (supersampled) pixels are laid over black.
+    let a = c[3] as f32 / 255.0;
     if c[3] == 0 {
         return [0.0; 3];
     }
     [
-        srgb_to_linear(c[0]),
-        srgb_to_linear(c[1]),
-        srgb_to_linear(c[2]),
+        srgb_to_linear(c[0]) * a,
+        srgb_to_linear(c[1]) * a,
+        srgb_to_linear(c[2]) * a,
     ]
 }
 

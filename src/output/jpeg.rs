@@ -16,6 +16,7 @@ use image::codecs::jpeg::JpegEncoder;
 use super::OutputError;
 use super::xmp::{PhotoSphere, photo_sphere_packet, vr_photo_packets};
 use crate::frame::{Frame, Rendered};
+use crate::render::shading::{linear_to_srgb, srgb_to_linear};
 
 /// The header of the APP1 segment holding the main XMP packet.
 pub const XMP_HEADER: &[u8] = b"http://ns.adobe.com/xap/1.0/\0";
@@ -36,7 +37,7 @@ fn jpeg_error(path: &Path) -> impl FnOnce(image::ImageError) -> OutputError + '_
 }
 
 /// Encodes `frame` as a baseline JPEG at `quality` (1..=100) with the omnicloud EXIF block;
-/// coverage is dropped (colour is premultiplied, so the background is black).
+/// coverage is dropped (the colour is laid over black, so the background is black).
 fn encode_plain(frame: &Frame, quality: u8, path: &Path) -> Result<Vec<u8>, OutputError> {
     if frame.width == 0 || frame.height == 0 || frame.width > 65_535 || frame.height > 65_535 {
         return Err(OutputError::BadSize {
@@ -49,7 +50,13 @@ fn encode_plain(frame: &Frame, quality: u8, path: &Path) -> Result<Vec<u8>, Outp
         .color
         .iter()
         .flat_map(|&[r, g, b, a]| {
-            let over_black = |c: u8| ((c as u32 * a as u32 + 127) / 255) as u8;
+            // Over black in linear light (partial alpha comes from supersampling); alpha 0
+            // and 255 give black and the colour exactly.
+            let over_black = |c: u8| match a {
+                255 => c,
+                0 => 0,
+                a => linear_to_srgb(srgb_to_linear(c) * (a as f32 / 255.0)),
+            };
             [over_black(r), over_black(g), over_black(b)]
         })
         .collect();

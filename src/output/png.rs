@@ -1,5 +1,6 @@
-//! PNG: 8-bit sRGB RGBA. Alpha carries coverage (255 hit, 0 background), so a PNG keeps the
-//! silhouette; viewers show the background as transparent. Depth is not stored.
+//! PNG: 8-bit sRGB RGBA. Alpha carries coverage (255 hit, 0 background, the covered fraction
+//! when supersampled), so a PNG keeps the silhouette; viewers show the background as
+//! transparent. Depth is not stored.
 
 use std::io::Write;
 use std::path::Path;

@@ -14,7 +14,7 @@ use super::resident::{Resident, ResidentError};
 use super::{Tour, TourRequest};
 use crate::output::{self, Layout, OutputError, OutputOptions};
 use crate::projection::Camera;
-use crate::render::RenderSettings;
+use crate::render::{Look, LookError, RenderSettings};
 
 /// The frame files' format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -62,6 +62,9 @@ pub struct RunOptions {
     /// `omnicloud render` and every option of the frames' render settings (scan included;
     /// without `--origin`, `--camera`, `--yaw` and `-o`, which each frame adds).
     pub render_command: Vec<String>,
+    /// Passes on each rendered frame (eye-dome lighting, supersampling, background);
+    /// `settings.image` is the output size, the renderer draws the look's render size.
+    pub look: Look,
 }
 
 impl RunOptions {
@@ -113,6 +116,9 @@ pub enum RunError {
     /// Writing a file failed.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// The look cannot be rendered at this size.
+    #[error(transparent)]
+    Look(#[from] LookError),
 }
 
 /// The manifest of `tour` rendered under `options` (the same for every shard).
@@ -184,12 +190,17 @@ pub fn render_frames(
     let mut report = RunReport::default();
     progress.set_length(todo.len() as u64);
     let layout = Layout::TopBottom;
+    let image = options.look.render_image(options.settings.image.width)?;
     for &index in todo {
         let started = Instant::now();
         let settings = options.frame_settings(tour, index);
         let rendered = resident
-            .render(&settings, &ProgressBar::hidden())
+            .render(
+                &RenderSettings { image, ..settings },
+                &ProgressBar::hidden(),
+            )
             .map_err(|source| RunError::Render { index, source })?;
+        let rendered = options.look.finish(rendered);
         let out = OutputOptions {
             layout,
             jpeg_quality: options.jpeg_quality,
