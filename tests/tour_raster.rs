@@ -199,3 +199,52 @@ fn a_raster_tour_frame_is_the_file_render_writes_at_its_pose() {
         "the raster tour's frame 1 differs from `omnicloud render` at its pose"
     );
 }
+
+#[test]
+fn a_scene_streamed_every_frame_renders_as_the_resident_upload() {
+    use omnicloud::render::RendererKind;
+    use omnicloud::tour::Resident;
+    let Some(rasterizer) = gpu::rasterizer() else {
+        return;
+    };
+    let scene = room();
+    let hidden = ProgressBar::hidden();
+    let at_zero = RenderSettings {
+        color: ColorMode::Elevation,
+        ..RenderSettings::new(256, Camera::new(DVec3::ZERO, 0.0))
+    };
+    let resident = Resident::new(&scene, RendererKind::Raster, &at_zero).unwrap();
+    assert!(!resident.is_streamed());
+    let streamed =
+        Resident::streamed(Box::new(rasterizer), &scene, &at_zero, "forced".into()).unwrap();
+    assert!(streamed.is_streamed());
+    assert!(
+        streamed.describe().starts_with("warning: "),
+        "{}",
+        streamed.describe()
+    );
+    let ods = Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    };
+    for (stereo, center, yaw) in [
+        (Stereo::Mono, DVec3::new(5.3, -2.1, 1.7), 30.0),
+        (ods, DVec3::new(-7.9, 4.4, 1.2), -120.0),
+    ] {
+        let settings = RenderSettings {
+            stereo,
+            camera: Camera::new(center, yaw),
+            ..at_zero
+        };
+        let want = resident.render(&settings, &hidden).unwrap();
+        let got = streamed.render(&settings, &hidden).unwrap();
+        let (same, depth) = agreement(&want, &got);
+        eprintln!(
+            "streamed: {:.4} % agree, depth within {depth:.2e}",
+            100.0 * same
+        );
+        assert!(same > 0.999, "{same}");
+        assert!(depth < 1e-5, "{depth}");
+    }
+}

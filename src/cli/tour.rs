@@ -243,15 +243,14 @@ pub fn run(args: &TourArgs) -> Result<()> {
         return encode_video(args, &say);
     }
 
-    let resident = Resident::new(&planned.scene, args.renderer, &settings).with_context(|| {
-        format!(
-            "keeping {} resident for the tour (a scan too large for the GPU is refused: \
-             use --renderer raytrace, or render frames one by one with `omnicloud render`, \
-             which streams)",
-            args.file.display()
-        )
-    })?;
-    say(resident.describe());
+    let resident = Resident::new(&planned.scene, args.renderer, &settings)
+        .with_context(|| format!("keeping {} resident for the tour", args.file.display()))?;
+    if resident.is_streamed() {
+        // A warning, shown even with --quiet: every frame now re-sends the points.
+        eprintln!("{}", resident.describe());
+    } else {
+        say(resident.describe());
+    }
     let log_path = args.output.join("tour.log");
     let mut log = std::fs::OpenOptions::new()
         .create(true)

@@ -20,6 +20,9 @@ pub enum ResidentError {
     #[cfg(feature = "gpu")]
     #[error(transparent)]
     Raster(#[from] crate::raster::RasterError),
+    /// The colour mode needs an attribute the scene lacks.
+    #[error(transparent)]
+    Color(#[from] crate::render::color::MissingAttribute),
     /// This build has no rasterizer.
     #[error("this build has no GPU rasterizer (feature `gpu`); use --renderer raytrace")]
     NoRasterizer,
@@ -35,6 +38,19 @@ pub enum Resident<'s> {
         /// The scene, uploaded relative to its local zero.
         uploaded: crate::raster::UploadedScene,
     },
+    /// The scene stays in host memory and is drawn through one reused GPU chunk every frame:
+    /// the fallback when uploading it whole runs the GPU out of memory.
+    #[cfg(feature = "gpu")]
+    Streamed {
+        /// The device and pipelines.
+        rasterizer: Box<crate::raster::Rasterizer>,
+        /// The scene, relative to its local zero.
+        scene: &'s Scene,
+        /// Colours fixed for the whole scene.
+        color: crate::render::ColorRule,
+        /// Why the scene is not resident on the GPU.
+        reason: String,
+    },
     /// The BVH over the scene's spheres.
     Raytrace {
         /// The BVH.
@@ -46,7 +62,8 @@ pub enum Resident<'s> {
 
 impl<'s> Resident<'s> {
     /// Makes `scene` resident for `kind` under `settings` (its colour mode is fixed for
-    /// every frame; the camera may move).
+    /// every frame; the camera may move). A scene the GPU has no memory for is kept in host
+    /// memory and streamed through the GPU every frame instead ([`Resident::Streamed`]).
     pub fn new(
         scene: &'s Scene,
         kind: RendererKind,
@@ -64,11 +81,16 @@ impl<'s> Resident<'s> {
                     camera: crate::projection::Camera::new(glam::DVec3::ZERO, 0.0),
                     ..*settings
                 };
-                let uploaded = rasterizer.upload(scene, &at_zero)?;
-                Ok(Resident::Raster {
-                    rasterizer,
-                    uploaded,
-                })
+                match rasterizer.upload(scene, &at_zero) {
+                    Ok(uploaded) => Ok(Resident::Raster {
+                        rasterizer,
+                        uploaded,
+                    }),
+                    Err(e @ crate::raster::RasterError::OutOfMemory { .. }) => {
+                        Resident::streamed(rasterizer, scene, settings, e.to_string())
+                    }
+                    Err(e) => Err(e.into()),
+                }
             }
             #[cfg(not(feature = "gpu"))]
             RendererKind::Raster => {
@@ -78,9 +100,48 @@ impl<'s> Resident<'s> {
         }
     }
 
+    /// `scene` kept in host memory and streamed through `rasterizer` every frame; `reason`
+    /// says why (for [`Resident::describe`]). Public for tests, which compare it with the
+    /// resident upload.
+    #[cfg(feature = "gpu")]
+    pub fn streamed(
+        rasterizer: Box<crate::raster::Rasterizer>,
+        scene: &'s Scene,
+        settings: &RenderSettings,
+        reason: String,
+    ) -> Result<Self, ResidentError> {
+        Ok(Resident::Streamed {
+            color: crate::render::ColorRule::for_scene(scene, settings.color)?,
+            rasterizer,
+            scene,
+            reason,
+        })
+    }
+
+    /// True when the scene is drawn from host memory every frame (a warning for the caller).
+    pub fn is_streamed(&self) -> bool {
+        #[cfg(feature = "gpu")]
+        if let Resident::Streamed { .. } = self {
+            return true;
+        }
+        false
+    }
+
     /// What renders, for messages: the GPU adapter's name, or the BVH's size.
     pub fn describe(&self) -> String {
         match self {
+            #[cfg(feature = "gpu")]
+            Resident::Streamed {
+                rasterizer,
+                scene,
+                reason,
+                ..
+            } => format!(
+                "warning: {} points streamed through the GPU every frame, slower than resident \
+                 ({}; {reason})",
+                scene.len(),
+                rasterizer.adapter_name()
+            ),
             #[cfg(feature = "gpu")]
             Resident::Raster {
                 rasterizer,
@@ -111,6 +172,18 @@ impl<'s> Resident<'s> {
                 rasterizer,
                 uploaded,
             } => Ok(rasterizer.render_uploaded(uploaded, settings, progress)?.0),
+            #[cfg(feature = "gpu")]
+            Resident::Streamed {
+                rasterizer,
+                scene,
+                color,
+                ..
+            } => {
+                let chunk = crate::stream::DEFAULT_CHUNK_POINTS.min(scene.len().max(1)) as u32;
+                let mut frame = rasterizer.begin_chunked(settings, *color, chunk)?;
+                frame.draw(scene)?;
+                Ok(frame.finish()?.0)
+            }
             Resident::Raytrace { tracer, scene } => Ok(raytrace::render_with_tracer(
                 tracer, scene, settings, progress,
             )?),
