@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::bench::BenchMode;
 use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
-use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
+use crate::prepare::{LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
@@ -136,6 +136,7 @@ impl ViewArgs {
                 max_distance: self.max_distance,
             },
             origin: None,
+            lod: crate::prepare::Lod::Off,
         }
     }
 }
@@ -206,9 +207,22 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+    /// Level of detail for COPC files (.copc.laz): `on` reads only the octree nodes whose
+    /// point spacing seen from the camera is a pixel or more, a number of pixels sets that
+    /// threshold, `off` reads every point.
+    #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
+    pub lod: LodChoice,
 }
 
 impl RenderArgs {
+    /// [`ViewArgs::prepare_options`] with the level of detail for this width.
+    pub fn prepare_options(&self) -> PrepareOptions {
+        PrepareOptions {
+            lod: self.lod.at_width(self.width),
+            ..self.view.prepare_options()
+        }
+    }
+
     /// Every input file, the first first.
     pub fn inputs(&self) -> Vec<PathBuf> {
         std::iter::once(self.file.clone())

@@ -61,13 +61,16 @@ pub(super) fn rasterize(
 
     let started = Instant::now();
     let options = PlanOptions {
-        prepare: args.view.prepare_options(),
+        prepare: args.prepare_options(),
         color: args.color,
         ..PlanOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "surveying");
     let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
     pb.finish_and_clear();
+    if let Some(lod) = &plan.lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+    }
     if plan.dropped > 0 {
         say(format!(
             "warning: dropped {} points with NaN/inf or absurd coordinates from {}",

@@ -60,6 +60,14 @@ pub enum LoadError {
         /// Whole point records present in the file.
         available: u64,
     },
+    /// A COPC file's octree hierarchy is missing or corrupt.
+    #[error("{}: corrupt COPC hierarchy: {detail}", path.display())]
+    CorruptCopc {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        detail: String,
+    },
     /// The point data ends or breaks before the declared count (found while reading).
     #[error(
         "{}: truncated or corrupt point data: failed after {read} of {declared} points: {detail}",
@@ -157,6 +165,7 @@ impl LoadError {
             | LoadError::EmptyFile { path }
             | LoadError::UnsupportedFormat { path, .. }
             | LoadError::CorruptHeader { path, .. }
+            | LoadError::CorruptCopc { path, .. }
             | LoadError::PointCountExceedsFile { path, .. }
             | LoadError::CorruptPoints { path, .. }
             | LoadError::NoPoints { path }
