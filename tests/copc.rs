@@ -256,3 +256,27 @@ fn render_reports_points_read() {
     // At 128 pixels a pixel spans 4.9 cm at 1 m: far less than the full cloud is needed.
     assert!(read < POINTS / 5, "{line}");
 }
+
+#[test]
+fn info_describes_the_octree() {
+    let run = |json: bool| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_omnicloud"));
+        command.arg("info").arg(fixture());
+        if json {
+            command.arg("--json");
+        }
+        let out = command.output().unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let text = run(false);
+    assert!(
+        text.contains(
+            "copc:          octree of depth 5, 1604 nodes with points, root spacing 1.8775 m"
+        ),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&run(true)).unwrap();
+    assert_eq!(json["copc"]["depth"], 5);
+    assert_eq!(json["copc"]["nodes"], 1604);
+}
