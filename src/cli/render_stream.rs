@@ -81,7 +81,7 @@ pub(super) fn rasterize(
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
         args.inputs_name(),
-        plan.declared,
+        plan.lod.map_or(plan.declared, |l| l.points_read),
         if plan.keep_file_radii {
             "per point".to_string()
         } else {
@@ -99,7 +99,8 @@ pub(super) fn rasterize(
     ));
 
     // GPU buffers no larger than the file needs.
-    let chunk_points = chunk_points.min(plan.declared.max(1) as usize);
+    let to_draw = plan.lod.map_or(plan.declared, |l| l.points_read);
+    let chunk_points = chunk_points.min(to_draw.max(1) as usize);
     let setup = Instant::now();
     let rasterizer = Rasterizer::new()?;
     let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;
