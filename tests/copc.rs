@@ -280,3 +280,25 @@ fn info_describes_the_octree() {
     assert_eq!(json["copc"]["depth"], 5);
     assert_eq!(json["copc"]["nodes"], 1604);
 }
+
+#[test]
+fn streamed_plan_holds_the_selection() {
+    use omnicloud::stream::{PlanOptions, plan};
+    let near = PlanOptions {
+        prepare: options(lod(1.0)),
+        // Smaller than the file: without level of detail the file would be surveyed and
+        // streamed; with it the selection is held whole.
+        survey_points: 1 << 16,
+        ..PlanOptions::default()
+    };
+    let p = plan(&fixture(), &near, &ProgressBar::hidden()).unwrap();
+    let report = p.lod.unwrap();
+    assert_eq!(report.points_read, 173_354);
+    assert_eq!(p.whole.unwrap().len() as u64, report.points_read);
+    let off = PlanOptions {
+        prepare: options(Lod::Off),
+        ..near
+    };
+    let p = plan(&fixture(), &off, &ProgressBar::hidden()).unwrap();
+    assert!(p.lod.is_none() && p.whole.is_none());
+}

@@ -456,6 +456,14 @@ mod tests {
     }
 
     #[test]
+    fn file_coordinates_invert_the_up_swap() {
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        for up in [Up::Z, Up::Y] {
+            assert_eq!(to_file(up, up.to_world(p)), p);
+        }
+    }
+
+    #[test]
     fn lod_values_parse() {
         assert_eq!("off".parse::<LodChoice>(), Ok(LodChoice::Off));
         assert_eq!("ON".parse::<LodChoice>(), Ok(LodChoice::Pixels(1.0)));
