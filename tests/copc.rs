@@ -302,3 +302,36 @@ fn streamed_plan_holds_the_selection() {
     let p = plan(&fixture(), &off, &ProgressBar::hidden()).unwrap();
     assert!(p.lod.is_none() && p.whole.is_none());
 }
+
+#[test]
+fn memory_cap_counts_the_selection() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pano.png");
+    let run = |lod: &str| {
+        Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+            .arg("render")
+            .arg(fixture())
+            .args([
+                "--renderer",
+                "raytrace",
+                "--width",
+                "128",
+                "--camera",
+                "0,0,1.7",
+            ])
+            .args(["--max-memory", "120M", "--lod", lod, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    // The whole cloud needs an estimated 197.5 MiB; the selection a fraction of it.
+    let off = run("off");
+    assert!(!off.status.success());
+    assert!(String::from_utf8_lossy(&off.stderr).contains("over the memory cap"));
+    let on = run("on");
+    assert!(
+        on.status.success(),
+        "{}",
+        String::from_utf8_lossy(&on.stderr)
+    );
+}

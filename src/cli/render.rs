@@ -231,6 +231,11 @@ fn ray_trace(
     )?;
     if let Some(lod) = &lod {
         say(format!("{}: {lod}", args.inputs_name()));
+        crate::cli::render_guard::check_memory_after_selection(
+            args,
+            lod.points_read,
+            scene.len() as u64,
+        )?;
     }
     super::warn_dropped(Path::new(&args.inputs_name()), &report, say);
     say_filtered(args, &filtered, scene.len() as u64, say);
