@@ -153,10 +153,9 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
     // The header checks (sizes against the file) come first: the las crate trusts them.
     let info = super::read_info(path)?;
     if !is_copc(&info) {
-        return Err(corrupt(
-            path,
-            "not a COPC file (no COPC info VLR); read it as a plain LAS/LAZ file",
-        ));
+        return Err(LoadError::NotCopc {
+            path: path.to_path_buf(),
+        });
     }
     let reader = guarded(path, "reading the COPC hierarchy", || {
         let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
@@ -183,7 +182,8 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
 /// point count (a flipped byte in the hierarchy breaks one of these).
 ///
 /// # Errors
-/// [`LoadError::CorruptCopc`] naming the file and the fault; any header error of
+/// [`LoadError::CorruptCopc`] naming the file and the fault; [`LoadError::NotCopc`]; any
+/// header error of
 /// [`super::read_info`].
 pub fn read_octree(path: &Path) -> Result<Octree, LoadError> {
     let (_, reader) = open_reader(path)?;

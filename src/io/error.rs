@@ -60,6 +60,12 @@ pub enum LoadError {
         /// Whole point records present in the file.
         available: u64,
     },
+    /// A COPC read was asked of a file without the COPC info VLR.
+    #[error("{}: not a COPC file (no COPC info VLR); it reads as a plain LAS/LAZ file", path.display())]
+    NotCopc {
+        /// The file.
+        path: PathBuf,
+    },
     /// A COPC file's octree hierarchy is missing or corrupt.
     #[error("{}: corrupt COPC hierarchy: {detail}", path.display())]
     CorruptCopc {
@@ -166,6 +172,7 @@ impl LoadError {
             | LoadError::UnsupportedFormat { path, .. }
             | LoadError::CorruptHeader { path, .. }
             | LoadError::CorruptCopc { path, .. }
+            | LoadError::NotCopc { path }
             | LoadError::PointCountExceedsFile { path, .. }
             | LoadError::CorruptPoints { path, .. }
             | LoadError::NoPoints { path }
