@@ -171,7 +171,8 @@ fn corrupted(dir: &Path, name: &str, flip: impl Fn(&mut [u8])) -> PathBuf {
 fn corrupt_hierarchy_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     // Each hierarchy entry is 32 bytes: key (4 x i32), offset u64, byte size i32, points i32.
-    let cases: [(&str, Flip, &str); 3] = [
+    // A wrong key, a wrong count, an offset past the end, an offset 16 bytes off.
+    let cases: [(&str, Flip, &str); 4] = [
         (
             "key.copc.laz",
             |h| h[32..48].iter_mut().for_each(|b| *b ^= 0xFF),
@@ -183,6 +184,7 @@ fn corrupt_hierarchy_is_a_clear_error() {
             "points but the header declares",
         ),
         ("offset.copc.laz", |h| h[32 + 23] ^= 0x40, "outside the"),
+        ("near.copc.laz", |h| h[64 + 16] ^= 0x10, "overlap"),
     ];
     for (name, flip, says) in cases {
         let path = corrupted(dir.path(), name, flip);

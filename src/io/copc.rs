@@ -178,13 +178,12 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
 }
 
 /// Reads and checks a COPC file's octree: every node a valid address, its chunk inside the
-/// file's point data, and the nodes reachable from the root holding exactly the header's
-/// point count (a flipped byte in the hierarchy breaks one of these).
+/// file and apart from the others, and the nodes reachable from the root holding exactly the
+/// header's point count (a flipped byte in the hierarchy breaks one of these).
 ///
 /// # Errors
 /// [`LoadError::CorruptCopc`] naming the file and the fault; [`LoadError::NotCopc`]; any
-/// header error of
-/// [`super::read_info`].
+/// header error of [`super::read_info`].
 pub fn read_octree(path: &Path) -> Result<Octree, LoadError> {
     let (_, reader) = open_reader(path)?;
     octree_of(path, &reader)
@@ -211,6 +210,7 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
         .len();
     let declared = header.number_of_points();
     let mut nodes = HashMap::new();
+    let mut chunks = Vec::new();
     for entry in reader.hierarchy_entries() {
         let key = NodeKey::from_las(&entry.key).ok_or_else(|| {
             corrupt(
@@ -222,7 +222,24 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
             )
         })?;
         let count = check_entry(path, &entry, declared, file_len)?;
+        if count > 0 {
+            chunks.push((entry.offset, entry.byte_size as u64, key));
+        }
         nodes.insert(key, count);
+    }
+    // Chunks never share bytes: an offset or size off by a flipped bit mostly makes two meet.
+    chunks.sort_unstable();
+    for pair in chunks.windows(2) {
+        let ((offset, size, a), (next, _, b)) = (pair[0], pair[1]);
+        if offset + size > next {
+            return Err(corrupt(
+                path,
+                format!(
+                    "the chunks of nodes {}-{}-{}-{} and {}-{}-{}-{} overlap",
+                    a.depth, a.x, a.y, a.z, b.depth, b.x, b.y, b.z
+                ),
+            ));
+        }
     }
     if !nodes.contains_key(&NodeKey::ROOT) {
         return Err(corrupt(path, "the hierarchy has no root node"));
