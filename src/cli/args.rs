@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::bench::BenchMode;
 use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
-use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
+use crate::prepare::{LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
@@ -139,6 +139,7 @@ impl ViewArgs {
                 max_distance: self.max_distance,
             },
             origin: None,
+            lod: crate::prepare::Lod::Off,
         }
     }
 }
@@ -212,12 +213,26 @@ pub struct RenderArgs {
     /// Eye-dome lighting, supersampling, background.
     #[command(flatten)]
     pub look: LookArgs,
+    /// Level of detail for COPC files (.copc.laz): `on` reads only the octree nodes whose
+    /// point spacing seen from the camera is a pixel or more, a number of pixels sets that
+    /// threshold, `off` reads every point.
+    #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
+    pub lod: LodChoice,
 }
 
 impl RenderArgs {
     /// The passes on the rendered frames: eye-dome lighting, supersampling, background.
     pub fn look(&self) -> Look {
         self.look.look()
+    }
+
+    /// [`ViewArgs::prepare_options`] with the level of detail for the width drawn (the
+    /// supersampled one: its pixels are the ones the spacing is compared with).
+    pub fn prepare_options(&self) -> PrepareOptions {
+        PrepareOptions {
+            lod: self.lod.at_width(self.render_width()),
+            ..self.view.prepare_options()
+        }
     }
 
     /// Width the renderer draws per eye: `--width` times `--supersample`.

@@ -40,9 +40,35 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             }
             println!("{info}");
         }
+        // The hierarchy EVLR is part of the header read: cheap on any size.
+        let copc = io::is_copc(&info).then(|| io::read_octree(file));
+        if let (false, Some(copc)) = (args.json, &copc) {
+            match copc {
+                Ok(o) => println!(
+                    "copc:          octree of depth {}, {} nodes with points, root spacing {:.4} m",
+                    o.depth(),
+                    o.nonempty_nodes(),
+                    o.spacing
+                ),
+                Err(e) => println!("copc:          {e}"),
+            }
+        }
         let stats = args.stats.then(|| stats(file, &info, args.json));
         if args.json {
             let mut out = info.to_json();
+            match &copc {
+                Some(Ok(o)) => {
+                    out["copc"] = serde_json::json!({
+                        "depth": o.depth(),
+                        "nodes": o.nonempty_nodes(),
+                        "spacing": o.spacing,
+                        "center": [o.center.x, o.center.y, o.center.z],
+                        "halfsize": o.halfsize,
+                    });
+                }
+                Some(Err(e)) => out["copc_error"] = Value::from(e.to_string()),
+                None => {}
+            }
             if let Some(result) = &stats {
                 let (key, value) = match result {
                     Ok((stats, spacing)) => {

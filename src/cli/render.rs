@@ -202,9 +202,12 @@ fn render_resident(
     crate::cli::render_guard::check_memory(args)?;
     let options = PrepareOptions {
         origin: Some(origin),
-        ..args.view.prepare_options()
+        ..args.prepare_options()
     };
     let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
+    if let Some(lod) = &prepared.lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+    }
     super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
     say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
     let settings = RenderSettings {
@@ -239,12 +242,21 @@ fn ray_trace(
         camera_world,
         report,
         filtered,
+        lod,
         ..
     } = prepare_files(
         &args.inputs(),
-        &args.view.prepare_options(),
+        &args.prepare_options(),
         &ProgressBar::hidden(),
     )?;
+    if let Some(lod) = &lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+        crate::cli::render_guard::check_memory_after_selection(
+            args,
+            lod.points_read,
+            scene.len() as u64,
+        )?;
+    }
     super::warn_dropped(Path::new(&args.inputs_name()), &report, say);
     say_filtered(args, &filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {

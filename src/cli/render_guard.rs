@@ -27,6 +27,10 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     let Some((cap, is_default)) = cap(args) else {
         return Ok(());
     };
+    if reads_copc_selection(args)? {
+        // The selection is known after the camera only: see `check_memory_after_selection`.
+        return Ok(());
+    }
     let info = inputs_info(args)?;
     let estimate = match args.subsample {
         Some(Subsample::Auto) => {
@@ -37,6 +41,33 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
         }
         None => memory::raytrace_estimate_for(&info, 1, args.render_width(), args.view.eyes()),
     };
+    check_budget(&args.file, &estimate, cap, is_default)?;
+    Ok(())
+}
+
+/// True when the render reads a level-of-detail selection: `--lod` on and every input COPC.
+fn reads_copc_selection(args: &RenderArgs) -> Result<bool> {
+    if args.lod == crate::prepare::LodChoice::Off {
+        return Ok(false);
+    }
+    for path in args.inputs() {
+        if !crate::io::is_copc(&crate::io::read_info(&path)?) {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
+/// After a level-of-detail read of `read` points, checks the tracer's estimate for them
+/// (`kept` of them after `--subsample`).
+pub(super) fn check_memory_after_selection(args: &RenderArgs, read: u64, kept: u64) -> Result<()> {
+    if args.renderer != RendererKind::Raytrace {
+        return Ok(());
+    }
+    let Some((cap, is_default)) = cap(args) else {
+        return Ok(());
+    };
+    let estimate = memory::raytrace_estimate(read, kept, args.width, args.view.eyes());
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
 }

@@ -61,13 +61,16 @@ pub(super) fn rasterize(
 
     let started = Instant::now();
     let options = PlanOptions {
-        prepare: args.view.prepare_options(),
+        prepare: args.prepare_options(),
         color: args.color,
         ..PlanOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "surveying");
     let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
     pb.finish_and_clear();
+    if let Some(lod) = &plan.lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+    }
     if plan.dropped > 0 {
         say(format!(
             "warning: dropped {} points with NaN/inf or absurd coordinates from {}",
@@ -78,7 +81,7 @@ pub(super) fn rasterize(
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
         args.inputs_name(),
-        plan.declared,
+        plan.lod.map_or(plan.declared, |l| l.points_read),
         if plan.keep_file_radii {
             "per point".to_string()
         } else {
@@ -96,7 +99,8 @@ pub(super) fn rasterize(
     ));
 
     // GPU buffers no larger than the file needs.
-    let chunk_points = chunk_points.min(plan.declared.max(1) as usize);
+    let to_draw = plan.lod.map_or(plan.declared, |l| l.points_read);
+    let chunk_points = chunk_points.min(to_draw.max(1) as usize);
     let setup = Instant::now();
     let rasterizer = Rasterizer::new()?;
     let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;

@@ -409,6 +409,8 @@ fn render_command(args: &TourArgs) -> Vec<String> {
     if let Some(m) = args.view.max_distance {
         a.push(format!("--max-distance={m}"));
     }
+    // A tour keeps every point resident; a COPC file's per-camera level of detail would not.
+    a.push("--lod=off".into());
     a.push(format!(
         "--color={}",
         name(&|| args.color.to_possible_value())

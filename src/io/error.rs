@@ -60,6 +60,20 @@ pub enum LoadError {
         /// Whole point records present in the file.
         available: u64,
     },
+    /// A COPC read was asked of a file without the COPC info VLR.
+    #[error("{}: not a COPC file (no COPC info VLR); it reads as a plain LAS/LAZ file", path.display())]
+    NotCopc {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A COPC file's octree hierarchy is missing or corrupt.
+    #[error("{}: corrupt COPC hierarchy: {detail}", path.display())]
+    CorruptCopc {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        detail: String,
+    },
     /// The point data ends or breaks before the declared count (found while reading).
     #[error(
         "{}: truncated or corrupt point data: failed after {read} of {declared} points: {detail}",
@@ -157,6 +171,8 @@ impl LoadError {
             | LoadError::EmptyFile { path }
             | LoadError::UnsupportedFormat { path, .. }
             | LoadError::CorruptHeader { path, .. }
+            | LoadError::CorruptCopc { path, .. }
+            | LoadError::NotCopc { path }
             | LoadError::PointCountExceedsFile { path, .. }
             | LoadError::CorruptPoints { path, .. }
             | LoadError::NoPoints { path }

@@ -387,28 +387,30 @@ impl LasSource {
             return Ok(None);
         }
         self.read += got;
-        let pd = &self.buffer;
-        let positions = pd
+        Ok(Some(raw_chunk(&self.buffer)))
+    }
+}
+
+/// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike).
+pub(super) fn raw_chunk(pd: &las::PointData) -> RawChunk {
+    RawChunk {
+        positions: pd
             .x()
             .zip(pd.y())
             .zip(pd.z())
             .map(|((x, y), z)| DVec3::new(x, y, z))
-            .collect();
-        let rgb = pd
+            .collect(),
+        rgb: pd
             .rgb()
-            .map(|it| RawRgb::Bits16(it.map(|(r, g, b)| [r, g, b]).collect()));
-        Ok(Some(RawChunk {
-            positions,
-            rgb,
-            intensity: Some(pd.intensity().collect()),
-            classification: Some(pd.classification().collect()),
-            returns: Some(
-                pd.return_number()
-                    .zip(pd.number_of_returns())
-                    .map(|(number, of)| Returns { number, of })
-                    .collect(),
-            ),
-            radius: None,
-        }))
+            .map(|it| RawRgb::Bits16(it.map(|(r, g, b)| [r, g, b]).collect())),
+        intensity: Some(pd.intensity().collect()),
+        classification: Some(pd.classification().collect()),
+        returns: Some(
+            pd.return_number()
+                .zip(pd.number_of_returns())
+                .map(|(number, of)| Returns { number, of })
+                .collect(),
+        ),
+        radius: None,
     }
 }

@@ -4,7 +4,7 @@
 use super::chunk::{ColorScale, RawChunk, RawRgb};
 use super::error::LoadError;
 use super::info::FileInfo;
-use super::open;
+use super::{PointReader, open};
 use crate::scene::{Attributes, Radii, Scene, extend_masked, masked};
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
@@ -163,6 +163,23 @@ pub fn load_files_with_progress(
     paths: &[PathBuf],
     options: &LoadOptions,
     progress: &ProgressBar,
+) -> Result<(Scene, LoadReport), LoadError> {
+    load_files_with_reader(paths, options, progress, &open)
+}
+
+/// [`load_files_with_progress`] with the files opened by `open` (e.g. [`super::open_nodes`]
+/// for chosen nodes of a COPC file) instead of [`super::open`].
+///
+/// # Errors
+/// As [`load_scene`], naming the file that failed.
+///
+/// # Panics
+/// When `paths` is empty.
+pub fn load_files_with_reader(
+    paths: &[PathBuf],
+    options: &LoadOptions,
+    progress: &ProgressBar,
+    open: &dyn Fn(&Path) -> Result<PointReader, LoadError>,
 ) -> Result<(Scene, LoadReport), LoadError> {
     assert!(!paths.is_empty(), "load_files_with_progress needs a file");
     let path = paths[0].as_path();

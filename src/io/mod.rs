@@ -9,6 +9,7 @@
 //! `info --stats`.
 
 mod chunk;
+pub mod copc;
 mod error;
 mod guard;
 mod info;
@@ -18,13 +19,15 @@ mod ply;
 mod stats;
 
 pub use chunk::{ColorScale, PointChunk};
+pub use copc::{NodeKey, Octree, is_copc, open_nodes, read_octree};
 pub use error::LoadError;
 pub use info::{
     AttributesPresent, ColorDepth, Crs, CrsSource, FileInfo, Format, GeoKey, LasHeaderInfo,
     PlyEncoding, VlrInfo, asprs_class_name,
 };
 pub use load::{
-    LoadOptions, LoadReport, Up, load_files_with_progress, load_scene, load_scene_with_progress,
+    LoadOptions, LoadReport, Up, load_files_with_progress, load_files_with_reader, load_scene,
+    load_scene_with_progress,
 };
 pub(crate) use load::{MAX_HEADER_EXTENT, header_extent, usable};
 pub use stats::{PointStats, point_stats};
@@ -41,6 +44,8 @@ pub const COLOR_DETECTION_POINTS: usize = 65_536;
 enum Source {
     Las(Box<las::LasSource>),
     Ply(Box<ply::PlySource>),
+    /// Chosen nodes of a COPC file ([`open_nodes`]).
+    Copc(Box<copc::CopcSource>),
 }
 
 impl Source {
@@ -48,6 +53,7 @@ impl Source {
         match self {
             Source::Las(s) => s.next_raw(n),
             Source::Ply(s) => s.next_raw(n),
+            Source::Copc(s) => s.next_raw(),
         }
     }
 
@@ -55,6 +61,7 @@ impl Source {
         match self {
             Source::Las(s) => s.seek(point),
             Source::Ply(s) => s.seek(point),
+            Source::Copc(s) => Err(s.seek_unsupported(point)),
         }
     }
 }

@@ -3,6 +3,7 @@
 //! take; [`subsample`] thins a prepared scene for a given render.
 
 pub mod filter;
+pub mod lod;
 pub mod placement;
 pub mod radius;
 pub mod subsample;
@@ -16,6 +17,7 @@ use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_files_with_progress
 use crate::scene::Scene;
 
 pub use filter::{FilterCounts, FilterError, PointFilter};
+pub use lod::{Lod, LodChoice, LodReport};
 pub use radius::{RadiusChoice, RadiusRule};
 pub use subsample::Subsample;
 
@@ -36,6 +38,8 @@ pub struct PrepareOptions {
     /// A tour keeps one origin for all its frames and moves the camera within that frame.
     /// Only [`prepare`] reads it: the stream plan always centres its chunks on the camera.
     pub origin: Option<DVec3>,
+    /// Level of detail for COPC input ([`lod`]); off by default.
+    pub lod: Lod,
 }
 
 /// A scan ready to render: its local frame centred on the camera (or on the given origin).
@@ -51,6 +55,8 @@ pub struct Prepared {
     pub report: LoadReport,
     /// Points each filter removed.
     pub filtered: FilterCounts,
+    /// What a view-dependent COPC read chose; `None` when every point was read.
+    pub lod: Option<LodReport>,
 }
 
 /// Why a scan could not be prepared.
@@ -118,7 +124,20 @@ pub fn prepare_files(
         up: options.up,
         ..LoadOptions::default()
     };
-    let (scene, report) = load_files_with_progress(&paths, &load, progress)?;
+    let read_infos: Vec<crate::io::FileInfo> = infos
+        .iter()
+        .filter(|i| paths.contains(&i.path))
+        .cloned()
+        .collect();
+    let (scene, report, lod_read) = match lod::read(&paths, &read_infos, options, progress)? {
+        Some((scene, report, lod_read)) => (scene, report, Some(lod_read)),
+        None => {
+            let (scene, report) = load_files_with_progress(&paths, &load, progress)?;
+            (scene, report, None)
+        }
+    };
+    // A view-dependent read has placed the camera already.
+    let camera = options.camera.or(lod_read.as_ref().map(|l| l.camera_world));
     let (mut scene, mut filtered) =
         options
             .filter
@@ -129,11 +148,11 @@ pub fn prepare_files(
     }
     let placed = match options.origin {
         // The scene stays in the origin's frame, loaded there once (no second rounding).
-        Some(_) => match options.camera {
+        Some(_) => match camera {
             Some(c) => Some(c),
             None => placement::auto_camera_position(&scene).map(|p| scene.origin + p),
         },
-        None => placement::center_on_camera(&mut scene, options.camera),
+        None => placement::center_on_camera(&mut scene, camera),
     };
     let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
         path: paths[0].clone(),
@@ -145,12 +164,16 @@ pub fn prepare_files(
     if scene.is_empty() {
         return Err(FilterError::NothingLeft { counts: filtered }.into());
     }
-    let radii = radius::apply_choice(&mut scene, options.radius);
+    let radii = match &lod_read {
+        Some(l) => l.apply_radii(&mut scene, options.radius, options.up),
+        None => radius::apply_choice(&mut scene, options.radius),
+    };
     Ok(Prepared {
         scene,
         camera_world,
         radii,
         report,
         filtered,
+        lod: lod_read.map(|l| l.report),
     })
 }

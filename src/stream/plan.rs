@@ -96,6 +96,9 @@ pub struct StreamPlan {
     pub filtered: FilterCounts,
     /// What the files skipped unread ([`crate::prepare::filter::files_to_read`]) count for.
     pub skipped: FilterCounts,
+    /// What a view-dependent COPC read chose (the plan then holds the read cloud whole);
+    /// `None` when every point is drawn.
+    pub lod: Option<crate::prepare::LodReport>,
 }
 
 impl StreamPlan {
@@ -157,7 +160,9 @@ pub fn plan_files(
         .filter(|i| read.contains(&i.path))
         .collect();
     let declared = infos.iter().map(|i| i.point_count).sum();
-    let mut plan = if declared <= options.survey_points as u64 {
+    // A view-dependent COPC read holds only what the view needs: it is read whole.
+    let lod = options.prepare.lod != crate::prepare::Lod::Off && infos.iter().all(io::is_copc);
+    let mut plan = if lod || declared <= options.survey_points as u64 {
         plan_whole(&read, declared, options, progress)?
     } else {
         plan_sampled(&read, &infos, options, progress)?
@@ -180,6 +185,7 @@ fn plan_whole(
         radii,
         report,
         filtered,
+        lod,
     } = prepare_files(paths, &options.prepare, progress)?;
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
@@ -198,6 +204,7 @@ fn plan_whole(
         filter: options.prepare.filter,
         filtered,
         skipped: FilterCounts::default(),
+        lod,
     })
 }
 
@@ -535,6 +542,7 @@ fn plan_sampled(
         filter,
         filtered: FilterCounts::default(),
         skipped: FilterCounts::default(),
+        lod: None,
     })
 }
 

@@ -1,0 +1,443 @@
+//! COPC (Cloud Optimized Point Cloud, <https://copc.io>): a LAZ 1.4 file whose points are
+//! grouped in the nodes of an octree, each node one compressed chunk, listed by a hierarchy
+//! EVLR. Through `las`'s `CopcReader`: [`read_octree`] reads and checks the hierarchy,
+//! [`open_nodes`] reads the points of chosen nodes. A plain read of the whole file needs none
+//! of this: [`super::open`] reads a COPC file as the LAZ file it is.
+
+use super::error::LoadError;
+use super::guard::guarded;
+use super::info::FileInfo;
+use super::{PointReader, RawChunk, Source};
+use glam::DVec3;
+use las::copc::{Entry, VoxelKey};
+use std::collections::{HashMap, VecDeque};
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+/// Deepest octree level accepted: node coordinates up to 2^30 fit the format's i32.
+pub const MAX_DEPTH: u32 = 30;
+
+/// An octree node's address: its depth and its integer position among the `2^depth` nodes
+/// along each axis (x, y, z from the cube's low corner).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct NodeKey {
+    /// Level in the octree; the root is 0.
+    pub depth: u32,
+    /// Position along x.
+    pub x: u32,
+    /// Position along y.
+    pub y: u32,
+    /// Position along z.
+    pub z: u32,
+}
+
+impl NodeKey {
+    /// The root node: the whole cube.
+    pub const ROOT: NodeKey = NodeKey {
+        depth: 0,
+        x: 0,
+        y: 0,
+        z: 0,
+    };
+
+    /// The eight children.
+    pub fn children(self) -> impl Iterator<Item = NodeKey> {
+        (0..8u32).map(move |i| NodeKey {
+            depth: self.depth + 1,
+            x: self.x * 2 + (i & 1),
+            y: self.y * 2 + ((i >> 1) & 1),
+            z: self.z * 2 + ((i >> 2) & 1),
+        })
+    }
+
+    fn from_las(key: &VoxelKey) -> Option<NodeKey> {
+        let depth = u32::try_from(key.l).ok().filter(|d| *d <= MAX_DEPTH)?;
+        let side = 1u64 << depth;
+        let coord = |v: i32| u32::try_from(v).ok().filter(|v| u64::from(*v) < side);
+        Some(NodeKey {
+            depth,
+            x: coord(key.x)?,
+            y: coord(key.y)?,
+            z: coord(key.z)?,
+        })
+    }
+
+    fn to_las(self) -> VoxelKey {
+        VoxelKey {
+            l: self.depth as i32,
+            x: self.x as i32,
+            y: self.y as i32,
+            z: self.z as i32,
+        }
+    }
+}
+
+/// A COPC file's octree: the cube, the point spacing and the points per node.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Octree {
+    /// Centre of the root cube, file coordinates.
+    pub center: DVec3,
+    /// Half the side of the root cube, metres.
+    pub halfsize: f64,
+    /// Distance between the root node's points; halved at each level.
+    pub spacing: f64,
+    /// Points of every node the hierarchy lists (0 for a node that only leads to children).
+    pub nodes: HashMap<NodeKey, u64>,
+    /// Points in the file (the header's count, which the nodes add up to).
+    pub point_count: u64,
+}
+
+impl Octree {
+    /// The deepest level that holds a node.
+    pub fn depth(&self) -> u32 {
+        self.nodes.keys().map(|k| k.depth).max().unwrap_or(0)
+    }
+
+    /// Nodes holding at least one point.
+    pub fn nonempty_nodes(&self) -> usize {
+        self.nodes.values().filter(|n| **n > 0).count()
+    }
+
+    /// The point spacing of the nodes at `depth`: [`Octree::spacing`] / 2^depth.
+    pub fn node_spacing(&self, depth: u32) -> f64 {
+        self.spacing / f64::from(depth).exp2()
+    }
+
+    /// `(low, high)` corners of a node, file coordinates.
+    pub fn bounds(&self, key: NodeKey) -> (DVec3, DVec3) {
+        let side = 2.0 * self.halfsize / f64::from(key.depth).exp2();
+        let low = self.center - DVec3::splat(self.halfsize)
+            + DVec3::new(f64::from(key.x), f64::from(key.y), f64::from(key.z)) * side;
+        (low, low + DVec3::splat(side))
+    }
+
+    /// True when the hierarchy lists a child of `key`.
+    pub fn has_children(&self, key: NodeKey) -> bool {
+        key.depth < MAX_DEPTH && key.children().any(|c| self.nodes.contains_key(&c))
+    }
+
+    /// The child of `key` whose cube holds the file-coordinate point `p` (clamped to it).
+    pub fn child_at(&self, key: NodeKey, p: DVec3) -> NodeKey {
+        let (low, high) = self.bounds(key);
+        let mid = (low + high) * 0.5;
+        NodeKey {
+            depth: key.depth + 1,
+            x: key.x * 2 + u32::from(p.x >= mid.x),
+            y: key.y * 2 + u32::from(p.y >= mid.y),
+            z: key.z * 2 + u32::from(p.z >= mid.z),
+        }
+    }
+}
+
+/// True when the file's VLRs include the COPC info VLR (user id `copc`, record 1).
+pub fn is_copc(info: &FileInfo) -> bool {
+    info.las.as_ref().is_some_and(|l| {
+        l.vlrs
+            .iter()
+            .any(|v| !v.extended && v.user_id.trim_end_matches('\0') == "copc" && v.record_id == 1)
+    })
+}
+
+fn corrupt(path: &Path, detail: impl Into<String>) -> LoadError {
+    LoadError::CorruptCopc {
+        path: path.to_path_buf(),
+        detail: detail.into(),
+    }
+}
+
+type Reader = las::CopcReader<'static, BufReader<File>>;
+
+/// Opens the COPC reader (header, info VLR, hierarchy) with typed errors.
+fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
+    // The header checks (sizes against the file) come first: the las crate trusts them.
+    let info = super::read_info(path)?;
+    if !is_copc(&info) {
+        return Err(LoadError::NotCopc {
+            path: path.to_path_buf(),
+        });
+    }
+    let reader = guarded(path, "reading the COPC hierarchy", || {
+        let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
+        las::CopcReader::new(BufReader::new(file)).map_err(|e| match e {
+            las::Error::CopcHierarchyEvlrNotFound => corrupt(
+                path,
+                "the hierarchy EVLR is missing, or a page it points to lies outside it",
+            ),
+            las::Error::ReferencedPageMissingFromEvlr(entry) => corrupt(
+                path,
+                format!(
+                    "the hierarchy refers to a page at byte {} that it does not hold",
+                    entry.offset
+                ),
+            ),
+            other => corrupt(path, other.to_string()),
+        })
+    })?;
+    Ok((info, reader))
+}
+
+/// Reads and checks a COPC file's octree: every node a valid address, its chunk inside the
+/// file and apart from the others, and the nodes reachable from the root holding exactly the
+/// header's point count (a flipped byte in the hierarchy breaks one of these).
+///
+/// # Errors
+/// [`LoadError::CorruptCopc`] naming the file and the fault; [`LoadError::NotCopc`]; any
+/// header error of [`super::read_info`].
+pub fn read_octree(path: &Path) -> Result<Octree, LoadError> {
+    let (_, reader) = open_reader(path)?;
+    octree_of(path, &reader)
+}
+
+fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
+    let header = reader.header();
+    let info = header
+        .copc_info_vlr()
+        .ok_or_else(|| corrupt(path, "the COPC info VLR does not parse"))?;
+    let center = DVec3::new(info.center_x, info.center_y, info.center_z);
+    let usable = |v: f64| v.is_finite() && v > 0.0;
+    if !(center.is_finite() && usable(info.halfsize) && usable(info.spacing)) {
+        return Err(corrupt(
+            path,
+            format!(
+                "the info VLR's cube (centre {center}, halfsize {}) or spacing ({}) is not usable",
+                info.halfsize, info.spacing
+            ),
+        ));
+    }
+    let file_len = std::fs::metadata(path)
+        .map_err(|e| LoadError::from_io(path, e))?
+        .len();
+    let declared = header.number_of_points();
+    let mut nodes = HashMap::new();
+    let mut chunks = Vec::new();
+    for entry in reader.hierarchy_entries() {
+        let key = NodeKey::from_las(&entry.key).ok_or_else(|| {
+            corrupt(
+                path,
+                format!(
+                    "the hierarchy lists an impossible node {}-{}-{}-{}",
+                    entry.key.l, entry.key.x, entry.key.y, entry.key.z
+                ),
+            )
+        })?;
+        let count = check_entry(path, &entry, declared, file_len)?;
+        if count > 0 {
+            chunks.push((entry.offset, entry.byte_size as u64, key));
+        }
+        nodes.insert(key, count);
+    }
+    // Chunks never share bytes: an offset or size off by a flipped bit mostly makes two meet.
+    chunks.sort_unstable();
+    for pair in chunks.windows(2) {
+        let ((offset, size, a), (next, _, b)) = (pair[0], pair[1]);
+        if offset + size > next {
+            return Err(corrupt(
+                path,
+                format!(
+                    "the chunks of nodes {}-{}-{}-{} and {}-{}-{}-{} overlap",
+                    a.depth, a.x, a.y, a.z, b.depth, b.x, b.y, b.z
+                ),
+            ));
+        }
+    }
+    if !nodes.contains_key(&NodeKey::ROOT) {
+        return Err(corrupt(path, "the hierarchy has no root node"));
+    }
+    let mut reachable = 0u64;
+    let mut pending = vec![NodeKey::ROOT];
+    while let Some(key) = pending.pop() {
+        if let Some(count) = nodes.get(&key) {
+            reachable = reachable.saturating_add(*count);
+            if key.depth < MAX_DEPTH {
+                pending.extend(key.children());
+            }
+        }
+    }
+    if reachable != declared {
+        return Err(corrupt(
+            path,
+            format!(
+                "the hierarchy's nodes hold {reachable} points but the header declares {declared}"
+            ),
+        ));
+    }
+    Ok(Octree {
+        center,
+        halfsize: info.halfsize,
+        spacing: info.spacing,
+        nodes,
+        point_count: declared,
+    })
+}
+
+/// The points of one entry, checked against the file.
+fn check_entry(path: &Path, entry: &Entry, declared: u64, file_len: u64) -> Result<u64, LoadError> {
+    let key = entry.key;
+    let name = format!("node {}-{}-{}-{}", key.l, key.x, key.y, key.z);
+    let count = u64::try_from(entry.point_count)
+        .map_err(|_| corrupt(path, format!("{name} has {} points", entry.point_count)))?;
+    if count > declared {
+        return Err(corrupt(
+            path,
+            format!("{name} claims {count} points, more than the file's {declared}"),
+        ));
+    }
+    if count > 0 {
+        let size = u64::try_from(entry.byte_size).unwrap_or(0);
+        if size == 0 || entry.offset.saturating_add(size) > file_len || entry.offset < 375 {
+            return Err(corrupt(
+                path,
+                format!(
+                    "{name}'s chunk ({} bytes at byte {}) lies outside the {file_len}-byte file",
+                    entry.byte_size, entry.offset
+                ),
+            ));
+        }
+    }
+    Ok(count)
+}
+
+/// Opens a COPC file for reading the points of `keys` only (nodes in the file's order, one
+/// chunk per node); the reader's [`FileInfo`] is the whole file's.
+///
+/// # Errors
+/// As [`read_octree`]; a key the hierarchy does not list.
+pub fn open_nodes(path: &Path, keys: &[NodeKey]) -> Result<PointReader, LoadError> {
+    let (info, reader) = open_reader(path)?;
+    let octree = octree_of(path, &reader)?;
+    let mut entries = Vec::with_capacity(keys.len());
+    for key in keys {
+        if !octree.nodes.contains_key(key) {
+            return Err(corrupt(
+                path,
+                format!(
+                    "no node {}-{}-{}-{} in the hierarchy",
+                    key.depth, key.x, key.y, key.z
+                ),
+            ));
+        }
+        if let Some(entry) = reader.hierarchy_entry(&key.to_las())
+            && entry.point_count > 0
+        {
+            entries.push(entry);
+        }
+    }
+    entries.sort_by_key(|e| e.offset);
+    Ok(PointReader {
+        info,
+        source: Source::Copc(Box::new(CopcSource {
+            path: path.to_path_buf(),
+            reader,
+            pending: entries.into(),
+            read: 0,
+            broken: false,
+        })),
+    })
+}
+
+/// Streams the points of chosen nodes, a node per chunk.
+pub(crate) struct CopcSource {
+    path: PathBuf,
+    reader: Reader,
+    pending: VecDeque<Entry>,
+    read: u64,
+    /// Set after the decoder panicked: its state is unknown.
+    broken: bool,
+}
+
+impl CopcSource {
+    pub(crate) fn next_raw(&mut self) -> Result<Option<RawChunk>, LoadError> {
+        if self.broken {
+            return Ok(None);
+        }
+        let Some(entry) = self.pending.pop_front() else {
+            return Ok(None);
+        };
+        let (path, read, reader) = (&self.path, self.read, &mut self.reader);
+        let declared = reader.header().number_of_points();
+        let data = guarded(path, "decoding a COPC node", || {
+            reader
+                .read_entry(&entry)
+                .map_err(|e| LoadError::CorruptPoints {
+                    path: path.clone(),
+                    read,
+                    declared,
+                    detail: format!(
+                        "node {}-{}-{}-{}: {e}",
+                        entry.key.l, entry.key.x, entry.key.y, entry.key.z
+                    ),
+                })
+        })
+        .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
+        self.read += data.len() as u64;
+        Ok(Some(super::las::raw_chunk(&data)))
+    }
+
+    pub(crate) fn seek_unsupported(&self, point: u64) -> LoadError {
+        LoadError::SeekFailed {
+            path: self.path.clone(),
+            point,
+            detail: "a selection of COPC nodes is read in order only".into(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn octree() -> Octree {
+        Octree {
+            center: DVec3::new(10.0, 20.0, 30.0),
+            halfsize: 8.0,
+            spacing: 1.0,
+            nodes: HashMap::from([(NodeKey::ROOT, 5)]),
+            point_count: 5,
+        }
+    }
+
+    #[test]
+    fn children_bounds_and_lookup_agree() {
+        let o = octree();
+        let (lo, hi) = o.bounds(NodeKey::ROOT);
+        assert_eq!(
+            (lo, hi),
+            (DVec3::new(2.0, 12.0, 22.0), DVec3::new(18.0, 28.0, 38.0))
+        );
+        for child in NodeKey::ROOT.children() {
+            let (clo, chi) = o.bounds(child);
+            assert_eq!(chi - clo, DVec3::splat(8.0));
+            assert_eq!(o.child_at(NodeKey::ROOT, (clo + chi) * 0.5), child);
+        }
+        let grand = NodeKey::ROOT
+            .children()
+            .nth(7)
+            .unwrap()
+            .children()
+            .next()
+            .unwrap();
+        assert_eq!(
+            grand,
+            NodeKey {
+                depth: 2,
+                x: 2,
+                y: 2,
+                z: 2
+            }
+        );
+        assert_eq!(o.bounds(grand).0, DVec3::new(10.0, 20.0, 30.0));
+        assert_eq!(o.node_spacing(3), 0.125);
+    }
+
+    #[test]
+    fn impossible_keys_are_refused() {
+        let key = |l, x, y, z| VoxelKey { l, x, y, z };
+        assert!(NodeKey::from_las(&key(0, 0, 0, 0)).is_some());
+        assert!(NodeKey::from_las(&key(2, 3, 3, 3)).is_some());
+        assert!(NodeKey::from_las(&key(2, 4, 0, 0)).is_none());
+        assert!(NodeKey::from_las(&key(-1, 0, 0, 0)).is_none());
+        assert!(NodeKey::from_las(&key(1, 0, -1, 0)).is_none());
+        assert!(NodeKey::from_las(&key(31, 0, 0, 0)).is_none());
+    }
+}

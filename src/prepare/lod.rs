@@ -1,0 +1,477 @@
+//! View-dependent level of detail for COPC files: a panorama reads only the octree nodes it
+//! needs.
+//!
+//! A COPC node at depth `d` holds a subsample of its cube with points about
+//! `spacing / 2^d` apart, and the union of a node with its ancestors is that cube at that
+//! density. Walking down from the root, a node's detail is enough when its spacing, seen
+//! from the camera at the node's nearest point, spans less than the threshold angle (a pixel
+//! of the panorama, `2π / width`, by default): its children are not read. Every node on the
+//! way down is read (their points are part of the picture).
+//!
+//! Points where refinement stopped stand for the denser points left unread, so their
+//! spheres grow to [`LOD_RADIUS_FACTOR`] times their level's spacing (never below the
+//! cloud's own radius): the surface stays closed where the full cloud would close it. Points
+//! at full detail keep the cloud's radius, measured (for `auto`) on those points only, so
+//! it matches the full cloud's.
+
+use std::collections::HashMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use glam::DVec3;
+use indicatif::ProgressBar;
+
+use super::filter::Stage;
+use super::radius::{self, RadiusChoice, RadiusRule};
+use super::{PrepareError, PrepareOptions, placement};
+use crate::io::{
+    self, FileInfo, LoadError, LoadOptions, LoadReport, NodeKey, Octree, Up, load_files_with_reader,
+};
+use crate::scene::{Radii, Scene};
+
+/// Sphere radius of a point where refinement stopped, in units of its level's spacing.
+pub const LOD_RADIUS_FACTOR: f64 = 0.7;
+
+/// Points read at most to place the camera automatically (whole levels from the root).
+pub const CAMERA_SURVEY_POINTS: u64 = 1 << 18;
+
+/// Level of detail for COPC input (other formats are always read whole).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Lod {
+    /// Every point.
+    #[default]
+    Off,
+    /// Refine until a node's spacing seen from the camera spans less than `pixels` pixels of
+    /// a panorama `width` pixels wide.
+    Pixels {
+        /// Panorama width (per eye).
+        width: u32,
+        /// Threshold in pixels.
+        pixels: f64,
+    },
+}
+
+impl Lod {
+    /// The threshold angle in radians; `None` when off.
+    pub fn threshold(self) -> Option<f64> {
+        match self {
+            Lod::Off => None,
+            Lod::Pixels { width, pixels } => {
+                Some(std::f64::consts::TAU / f64::from(width.max(1)) * pixels)
+            }
+        }
+    }
+}
+
+/// The `--lod` value: `on` (one pixel), `off`, or a threshold in pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LodChoice {
+    /// Full detail.
+    Off,
+    /// Threshold in pixels.
+    Pixels(f64),
+}
+
+impl LodChoice {
+    /// The level of detail for a panorama `width` pixels wide.
+    pub fn at_width(self, width: u32) -> Lod {
+        match self {
+            LodChoice::Off => Lod::Off,
+            LodChoice::Pixels(pixels) => Lod::Pixels { width, pixels },
+        }
+    }
+}
+
+impl FromStr for LodChoice {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "off" => Ok(LodChoice::Off),
+            "on" => Ok(LodChoice::Pixels(1.0)),
+            other => match other.parse::<f64>() {
+                Ok(p) if p.is_finite() && p > 0.0 => Ok(LodChoice::Pixels(p)),
+                _ => Err(format!(
+                    "expected on, off or a positive number of pixels, got `{s}`"
+                )),
+            },
+        }
+    }
+}
+
+/// The nodes a view reads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    /// Selected nodes; `true` where refinement stopped above existing children.
+    pub nodes: HashMap<NodeKey, bool>,
+    /// Selected nodes that hold points, to read.
+    pub read: Vec<NodeKey>,
+    /// Points in `read`.
+    pub points: u64,
+}
+
+/// Walks `octree` from the root with the camera at `camera` (file coordinates) and keeps
+/// refining while a node's spacing, seen from the camera at the node's nearest point, spans
+/// at least `threshold` radians.
+pub fn select(octree: &Octree, camera: DVec3, threshold: f64) -> Selection {
+    let mut nodes = HashMap::new();
+    let mut pending = vec![NodeKey::ROOT];
+    while let Some(key) = pending.pop() {
+        if !octree.nodes.contains_key(&key) {
+            continue;
+        }
+        let (lo, hi) = octree.bounds(key);
+        let distance = camera.clamp(lo, hi).distance(camera);
+        let fine_enough = octree.node_spacing(key.depth) < threshold * distance;
+        let children = octree.has_children(key);
+        nodes.insert(key, fine_enough && children);
+        if !fine_enough && children {
+            pending.extend(key.children());
+        }
+    }
+    let mut read: Vec<NodeKey> = nodes
+        .keys()
+        .copied()
+        .filter(|k| octree.nodes.get(k).is_some_and(|n| *n > 0))
+        .collect();
+    read.sort_unstable();
+    let points = read.iter().map(|k| octree.nodes[k]).sum();
+    Selection {
+        nodes,
+        read,
+        points,
+    }
+}
+
+/// Whole levels from the root holding at most `budget` points together (the root level at
+/// least): a coarse, even sample of the cloud.
+pub fn coarse_nodes(octree: &Octree, budget: u64) -> Vec<NodeKey> {
+    let mut per_level: Vec<u64> = vec![0; octree.depth() as usize + 1];
+    for (k, n) in &octree.nodes {
+        per_level[k.depth as usize] += n;
+    }
+    let mut total = 0;
+    let mut levels = 0;
+    for n in per_level {
+        if levels > 0 && total + n > budget {
+            break;
+        }
+        total += n;
+        levels += 1;
+    }
+    let mut keys: Vec<NodeKey> = octree
+        .nodes
+        .iter()
+        .filter(|(k, n)| (k.depth as usize) < levels && **n > 0)
+        .map(|(k, _)| *k)
+        .collect();
+    keys.sort_unstable();
+    keys
+}
+
+/// What a view-dependent read did, for the summary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LodReport {
+    /// Points read.
+    pub points_read: u64,
+    /// Points in the files.
+    pub points_total: u64,
+    /// Nodes read.
+    pub nodes_read: usize,
+    /// Nodes holding points in the files.
+    pub nodes_total: usize,
+    /// Deepest level read.
+    pub deepest: u32,
+    /// Deepest level in the files.
+    pub depth: u32,
+    /// The threshold in pixels.
+    pub pixels: f64,
+}
+
+impl fmt::Display for LodReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "level of detail ({} px): read {} of {} points ({} nodes of {}, levels 0-{} of 0-{})",
+            self.pixels,
+            self.points_read,
+            self.points_total,
+            self.nodes_read,
+            self.nodes_total,
+            self.deepest,
+            self.depth
+        )
+    }
+}
+
+/// A view-dependent read of COPC files: the octrees and what was chosen from them.
+#[derive(Debug, Clone)]
+pub struct LodRead {
+    /// The camera's world position the selection was made for.
+    pub camera_world: DVec3,
+    /// Per file: its octree and selection.
+    pub files: Vec<(PathBuf, Octree, Selection)>,
+    /// The summary.
+    pub report: LodReport,
+}
+
+/// File coordinates of a world (Z-up) point: the inverse of [`Up::to_world`].
+fn to_file(up: Up, w: DVec3) -> DVec3 {
+    match up {
+        Up::Z => w,
+        Up::Y => DVec3::new(w.x, w.z, -w.y),
+    }
+}
+
+/// Reads the nodes of `paths` (all COPC) the view needs, after placing the camera on a
+/// coarse read when it is not given. `None` when `lod` is off or some file is not COPC
+/// (the caller then reads every point).
+///
+/// # Errors
+/// A [`LoadError`] (a corrupt hierarchy names the file), or
+/// [`PrepareError::CameraPlacement`].
+pub fn read(
+    paths: &[PathBuf],
+    infos: &[FileInfo],
+    options: &PrepareOptions,
+    progress: &ProgressBar,
+) -> Result<Option<(Scene, LoadReport, LodRead)>, PrepareError> {
+    let (Some(threshold), Lod::Pixels { pixels, .. }) = (options.lod.threshold(), options.lod)
+    else {
+        return Ok(None);
+    };
+    if infos.is_empty() || !infos.iter().all(io::is_copc) {
+        return Ok(None);
+    }
+    let octrees = paths
+        .iter()
+        .map(|p| io::read_octree(p))
+        .collect::<Result<Vec<_>, _>>()?;
+    let nodes_for = |p: &Path, pick: &dyn Fn(&Octree) -> Vec<NodeKey>| {
+        let i = paths.iter().position(|q| q == p).unwrap_or(0);
+        io::open_nodes(p, &pick(&octrees[i]))
+    };
+    let camera_world = match options.camera {
+        Some(c) => c,
+        None => {
+            let load = LoadOptions {
+                origin: options.origin,
+                up: options.up,
+                ..LoadOptions::default()
+            };
+            let (coarse, _) = load_files_with_reader(paths, &load, &ProgressBar::hidden(), &|p| {
+                nodes_for(p, &|o| coarse_nodes(o, CAMERA_SURVEY_POINTS))
+            })?;
+            let (coarse, _) = options
+                .filter
+                .apply(coarse, options.up, Stage::BeforeCamera);
+            placement::auto_camera_position(&coarse)
+                .map(|c| coarse.origin + c)
+                .ok_or_else(|| PrepareError::CameraPlacement {
+                    path: paths[0].clone(),
+                })?
+        }
+    };
+    let camera_file = to_file(options.up, camera_world);
+    let files: Vec<(PathBuf, Octree, Selection)> = paths
+        .iter()
+        .zip(octrees)
+        .map(|(p, o)| {
+            let s = select(&o, camera_file, threshold);
+            (p.clone(), o, s)
+        })
+        .collect();
+    let load = LoadOptions {
+        origin: options.origin.or(Some(camera_world)),
+        up: options.up,
+        ..LoadOptions::default()
+    };
+    let (scene, report) = load_files_with_reader(paths, &load, progress, &|p| {
+        let (_, _, s) = files
+            .iter()
+            .find(|(q, _, _)| q == p)
+            .ok_or_else(|| LoadError::NotFound { path: p.into() })?;
+        io::open_nodes(p, &s.read)
+    })?;
+    let report_lod = LodReport {
+        points_read: files.iter().map(|(_, _, s)| s.points).sum(),
+        points_total: files.iter().map(|(_, o, _)| o.point_count).sum(),
+        nodes_read: files.iter().map(|(_, _, s)| s.read.len()).sum(),
+        nodes_total: files.iter().map(|(_, o, _)| o.nonempty_nodes()).sum(),
+        deepest: files
+            .iter()
+            .flat_map(|(_, _, s)| s.read.iter().map(|k| k.depth))
+            .max()
+            .unwrap_or(0),
+        depth: files.iter().map(|(_, o, _)| o.depth()).max().unwrap_or(0),
+        pixels,
+    };
+    Ok(Some((
+        scene,
+        report,
+        LodRead {
+            camera_world,
+            files,
+            report: report_lod,
+        },
+    )))
+}
+
+impl LodRead {
+    /// The level-of-detail spacing at world point `w`: the spacing of the selected node
+    /// holding it where refinement stopped; `None` where the point is at full detail.
+    fn stopped_spacing(&self, up: Up, w: DVec3) -> Option<f64> {
+        let p = to_file(up, w);
+        let (_, octree, selection) = self.files.iter().find(|(_, o, _)| {
+            let (lo, hi) = o.bounds(NodeKey::ROOT);
+            p.cmpge(lo).all() && p.cmple(hi).all()
+        })?;
+        let mut key = NodeKey::ROOT;
+        loop {
+            match selection.nodes.get(&key) {
+                Some(true) => return Some(octree.node_spacing(key.depth)),
+                Some(false) if key.depth < io::copc::MAX_DEPTH => {
+                    let child = octree.child_at(key, p);
+                    if !selection.nodes.contains_key(&child) {
+                        return None;
+                    }
+                    key = child;
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    /// Sizes the spheres of the read scene: the radius rule's radius (`auto` measured on the
+    /// points at full detail) for points at full detail, and at least
+    /// [`LOD_RADIUS_FACTOR`] times their level's spacing where refinement stopped.
+    pub fn apply_radii(
+        &self,
+        scene: &mut Scene,
+        choice: Option<RadiusChoice>,
+        up: Up,
+    ) -> RadiusRule {
+        let spacing: Vec<Option<f64>> = scene
+            .positions
+            .iter()
+            .map(|p| self.stopped_spacing(up, scene.origin + p.as_dvec3()))
+            .collect();
+        let base = match choice {
+            Some(RadiusChoice::Fixed(r)) => r,
+            Some(RadiusChoice::Auto) | None => {
+                let full: Vec<bool> = spacing.iter().map(Option::is_none).collect();
+                let detailed = scene.select(&full);
+                if detailed.len() >= 2 {
+                    radius::auto_radius(&detailed)
+                } else {
+                    radius::auto_radius(scene)
+                }
+            }
+        };
+        let radii = spacing
+            .iter()
+            .map(|s| s.map_or(base, |s| base.max((s * LOD_RADIUS_FACTOR) as f32)))
+            .collect();
+        scene.radii = Radii::PerPoint(radii);
+        RadiusRule {
+            radius: base,
+            keep_file_radii: true,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A full octree of `depth` levels over a 64 m cube at the origin, 10 points a node.
+    fn full(depth: u32) -> Octree {
+        let mut nodes = HashMap::new();
+        let mut level = vec![NodeKey::ROOT];
+        for _ in 0..=depth {
+            let mut next = Vec::new();
+            for k in level {
+                nodes.insert(k, 10);
+                next.extend(k.children());
+            }
+            level = next;
+        }
+        Octree {
+            center: DVec3::ZERO,
+            halfsize: 32.0,
+            spacing: 1.0,
+            point_count: 10 * nodes.len() as u64,
+            nodes,
+        }
+    }
+
+    #[test]
+    fn refines_near_the_camera_only() {
+        let o = full(4);
+        let camera = DVec3::new(1.0, 1.0, 1.0);
+        // One pixel of a 256-wide panorama: 0.0245 rad.
+        let s = select(
+            &o,
+            camera,
+            Lod::Pixels {
+                width: 256,
+                pixels: 1.0,
+            }
+            .threshold()
+            .unwrap(),
+        );
+        // The node holding the camera is refined to the bottom.
+        let deepest = s.read.iter().map(|k| k.depth).max().unwrap();
+        assert_eq!(deepest, 4);
+        // A node is fine enough beyond spacing / threshold: 20.4 m at depth 1 (0.5 m), 10.2 m
+        // at depth 2, 5.1 m at depth 3. With the camera near the centre, at each of depths
+        // 1-3 only the 8 nodes around the camera are nearer: each level below reads their
+        // 64 children, and nothing else.
+        let per_depth: Vec<usize> = (0..=4)
+            .map(|d| s.read.iter().filter(|k| k.depth == d).count())
+            .collect();
+        assert_eq!(per_depth, [1, 8, 64, 64, 64]);
+        assert_eq!(s.points, 2010);
+        // Every selected node's parent is selected too.
+        for k in s.nodes.keys().filter(|k| k.depth > 0) {
+            let parent = NodeKey {
+                depth: k.depth - 1,
+                x: k.x / 2,
+                y: k.y / 2,
+                z: k.z / 2,
+            };
+            assert!(s.nodes.contains_key(&parent));
+        }
+        // A threshold of zero reads everything.
+        assert_eq!(select(&o, camera, 0.0).points, o.point_count);
+    }
+
+    #[test]
+    fn coarse_levels_fit_the_budget() {
+        let o = full(3);
+        assert_eq!(coarse_nodes(&o, 0).len(), 1);
+        assert_eq!(coarse_nodes(&o, 90).len(), 9);
+        assert_eq!(coarse_nodes(&o, 1000).len(), 73);
+    }
+
+    #[test]
+    fn file_coordinates_invert_the_up_swap() {
+        let p = DVec3::new(1.0, 2.0, 3.0);
+        for up in [Up::Z, Up::Y] {
+            assert_eq!(to_file(up, up.to_world(p)), p);
+        }
+    }
+
+    #[test]
+    fn lod_values_parse() {
+        assert_eq!("off".parse::<LodChoice>(), Ok(LodChoice::Off));
+        assert_eq!("ON".parse::<LodChoice>(), Ok(LodChoice::Pixels(1.0)));
+        assert_eq!("2.5".parse::<LodChoice>(), Ok(LodChoice::Pixels(2.5)));
+        assert!("0".parse::<LodChoice>().is_err());
+        assert!("fast".parse::<LodChoice>().is_err());
+        let t = LodChoice::Pixels(2.0).at_width(512).threshold().unwrap();
+        assert!((t - std::f64::consts::TAU / 256.0).abs() < 1e-12);
+        assert_eq!(LodChoice::Off.at_width(512).threshold(), None);
+    }
+}
