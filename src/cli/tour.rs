@@ -9,7 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 
 use crate::memory;
-use crate::projection::{Equirect, PoleMerge, Stereo, StereoKind};
+use crate::projection::{Equirect, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
 use crate::tour::{
     self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
@@ -370,8 +370,8 @@ fn render_command(args: &TourArgs) -> Vec<String> {
         a.push(format!("--ipd={}", view.ipd));
         let north = view.pole_merge_north.unwrap_or(view.pole_merge);
         let south = view.pole_merge_south.unwrap_or(view.pole_merge);
-        a.push(format!("--pole-merge-north={}", pole_merge(north)));
-        a.push(format!("--pole-merge-south={}", pole_merge(south)));
+        a.push(format!("--pole-merge-north={}", north));
+        a.push(format!("--pole-merge-south={}", south));
         a.push(format!(
             "--ods-offset={}",
             name(&|| view.ods_offset.to_possible_value())
@@ -435,19 +435,6 @@ fn render_command(args: &TourArgs) -> Vec<String> {
         a.push(format!("--quality={}", args.quality));
     }
     a
-}
-
-/// A pole-merge profile as `--pole-merge` reads it back.
-fn pole_merge(p: PoleMerge) -> String {
-    match p {
-        PoleMerge::Off => "off".into(),
-        PoleMerge::Marrinan {
-            start_deg,
-            end_deg,
-            exponent,
-        } => format!("marrinan:{start_deg},{end_deg},{exponent}"),
-        PoleMerge::Cycles { from_deg, to_deg } => format!("cycles:{from_deg},{to_deg}"),
-    }
 }
 
 /// A proxy as `--proxy` reads it back.

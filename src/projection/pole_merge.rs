@@ -92,6 +92,22 @@ impl PoleMerge {
     }
 }
 
+/// `off`, `marrinan:START,END,EXP` or `cycles:FROM,TO` (degrees): what [`FromStr`] reads back
+/// to the same profile.
+impl std::fmt::Display for PoleMerge {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            PoleMerge::Off => f.write_str("off"),
+            PoleMerge::Marrinan {
+                start_deg,
+                end_deg,
+                exponent,
+            } => write!(f, "marrinan:{start_deg},{end_deg},{exponent}"),
+            PoleMerge::Cycles { from_deg, to_deg } => write!(f, "cycles:{from_deg},{to_deg}"),
+        }
+    }
+}
+
 /// `off`, `comfortable`, `cycles`, `marrinan:START,END,EXP` or `cycles:FROM,TO` (degrees), as
 /// `--pole-merge` and the suite manifest spell a profile.
 impl FromStr for PoleMerge {
@@ -199,6 +215,19 @@ impl PoleMerging {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn profiles_print_as_they_parse() {
+        for p in [
+            PoleMerge::Off,
+            PoleMerge::COMFORTABLE,
+            PoleMerge::CYCLES_DEFAULT,
+            "marrinan:37.5,2.25,1.5".parse().unwrap(),
+        ] {
+            assert_eq!(p.to_string().parse::<PoleMerge>(), Ok(p), "{p}");
+        }
+        assert_eq!(PoleMerge::COMFORTABLE.to_string(), "marrinan:45,0,3");
+    }
 
     #[test]
     fn marrinan_comfortable_preset() {

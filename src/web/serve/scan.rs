@@ -125,7 +125,7 @@ impl LiveScan {
             height: options.height,
             width: options.width,
             ipd: DEFAULT_IPD,
-            pole_merge: spell(PoleMerge::COMFORTABLE),
+            pole_merge: PoleMerge::COMFORTABLE.to_string(),
         };
         let mut scan = LiveScan {
             extent: (hi - lo).truncate().max_element() as f32,
@@ -152,19 +152,6 @@ impl LiveScan {
         let eye = ground_camera_position(&self.scene, centre, self.extent)?;
         let ground = self.scene.origin.z + eye.z - EYE_HEIGHT;
         Some(xy.extend(ground + self.options.height))
-    }
-}
-
-/// A profile as `--pole-merge` and `/api/render` spell it.
-fn spell(merge: PoleMerge) -> String {
-    match merge {
-        PoleMerge::Off => "off".into(),
-        PoleMerge::Marrinan {
-            start_deg,
-            end_deg,
-            exponent,
-        } => format!("marrinan:{start_deg},{end_deg},{exponent}"),
-        PoleMerge::Cycles { from_deg, to_deg } => format!("cycles:{from_deg},{to_deg}"),
     }
 }
 
