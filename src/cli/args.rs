@@ -8,7 +8,7 @@ use glam::DVec3;
 use crate::bench::BenchMode;
 use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
-use crate::prepare::{PointFilter, PrepareOptions, RadiusChoice, Subsample};
+use crate::prepare::{CameraChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RendererKind, Shading};
 
@@ -49,10 +49,11 @@ pub enum Command {
 /// Scene, camera and stereo options shared by `render` and `bench`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
-    /// Camera centre in file coordinates (default: XY centre of the bounds, 1.7 m above the
-    /// ground near it).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
-    pub camera: Option<DVec3>,
+    /// Camera: auto (open space near the scan's centre, no point within 0.6 × the eye height
+    /// of the eye, ground below), center (the XY centre of the bounds, above the ground
+    /// there) or X,Y,Z in file coordinates [default: auto].
+    #[arg(long, value_name = "auto|center|X,Y,Z", allow_hyphen_values = true)]
+    pub camera: Option<CameraChoice>,
     /// Heading in degrees: 0 looks along +Y, 90 along +X.
     #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
     pub yaw: f64,
@@ -125,7 +126,8 @@ impl ViewArgs {
     /// Where the scene's camera goes and how its file is read.
     pub fn prepare_options(&self) -> PrepareOptions {
         PrepareOptions {
-            camera: self.camera,
+            camera: self.camera.unwrap_or_default(),
+            height: None,
             up: self.up,
             radius: self.radius,
             filter: PointFilter {
@@ -206,9 +208,21 @@ pub struct RenderArgs {
     /// resolution (sub-pixel spheres behind nearer ones are dropped).
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
+    /// Eye height above the local ground with --camera auto or center, metres [default: 1.7,
+    /// or 10 median point spacings when higher (sparse aerial data)].
+    #[arg(long, value_name = "H", value_parser = parse::distance)]
+    pub height: Option<f64>,
 }
 
 impl RenderArgs {
+    /// [`ViewArgs::prepare_options`] with the eye height.
+    pub fn prepare_options(&self) -> PrepareOptions {
+        PrepareOptions {
+            height: self.height,
+            ..self.view.prepare_options()
+        }
+    }
+
     /// Every input file, the first first.
     pub fn inputs(&self) -> Vec<PathBuf> {
         std::iter::once(self.file.clone())
@@ -336,7 +350,10 @@ mod tests {
         let Command::Render(r) = cli.command else {
             panic!("not render")
         };
-        assert_eq!(r.view.camera, Some(DVec3::new(-637000.5, 851000.0, 12.0)));
+        assert_eq!(
+            r.view.camera,
+            Some(CameraChoice::At(DVec3::new(-637000.5, 851000.0, 12.0)))
+        );
         assert_eq!(r.view.yaw, -30.0);
         assert_eq!(r.proxy, Proxy::Static(16));
         assert_eq!(r.view.pole_merge_south, Some(PoleMerge::Off));

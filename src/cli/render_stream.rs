@@ -61,7 +61,7 @@ pub(super) fn rasterize(
 
     let started = Instant::now();
     let options = PlanOptions {
-        prepare: args.view.prepare_options(),
+        prepare: args.prepare_options(),
         color: args.color,
         ..PlanOptions::default()
     };
@@ -81,6 +81,8 @@ pub(super) fn rasterize(
         plan.declared,
         if plan.keep_file_radii {
             "per point".to_string()
+        } else if let Some(k) = plan.adaptive {
+            format!("adaptive:{k} (median {:.4} m)", plan.radius)
         } else {
             format!("{:.4} m", plan.radius)
         },

@@ -73,7 +73,8 @@ fn eye_height(s: &str) -> Result<f64, String> {
 pub fn run(args: &ServeArgs) -> Result<()> {
     let started = Instant::now();
     let options = PrepareOptions {
-        camera: None,
+        // The served page places the camera itself; its default stands at the centre.
+        camera: crate::prepare::CameraChoice::Center,
         up: args.up,
         radius: args.radius,
         ..PrepareOptions::default()
