@@ -5,7 +5,7 @@
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_scene};
-use omnicloud::prepare::radius::{RadiusChoice, auto_radius};
+use omnicloud::prepare::radius::RadiusChoice;
 use omnicloud::prepare::{PrepareOptions, placement};
 use omnicloud::render::{ColorMode, base_colors};
 use omnicloud::rng::SplitMix64;
@@ -236,8 +236,7 @@ fn in_core(path: &Path) -> (Scene, DVec3, f32) {
     let camera =
         placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Auto, None)
             .unwrap();
-    let radius = auto_radius(&scene);
-    scene.radii = Radii::Uniform(radius);
+    let radius = omnicloud::prepare::radius::apply_choice(&mut scene, None).radius;
     (scene, camera, radius)
 }
 

@@ -154,8 +154,17 @@ pub struct RadiusRule {
 }
 
 /// Sizes the spheres of a freshly loaded `scene`: a fixed radius; `auto` ([`auto_radius`]);
-/// `adaptive` ([`adaptive_radii`]); or, with no choice, the file's per-point radii when the scene has them, else `auto`.
+/// `adaptive` ([`adaptive_radii`]); or, with no choice, the file's per-point radii when the
+/// scene has them, else `adaptive` with [`DEFAULT_K`] neighbours.
 pub fn apply_choice(scene: &mut Scene, choice: Option<RadiusChoice>) -> RadiusRule {
+    // Without a choice or file radii: adaptive, which leaves fewer holes than `auto` (see
+    // docs/PICTURES.md).
+    let choice = match choice {
+        None if !matches!(scene.radii, Radii::PerPoint(_)) => {
+            Some(RadiusChoice::Adaptive { k: DEFAULT_K })
+        }
+        c => c,
+    };
     if let Some(RadiusChoice::Adaptive { k }) = choice
         && let Some(radii) = adaptive_radii(&scene.positions, k)
     {
@@ -434,8 +443,11 @@ mod tests {
         let fixed = apply_choice(&mut scene, Some(RadiusChoice::Fixed(0.1)));
         assert_eq!((fixed.radius, fixed.keep_file_radii), (0.1, false));
         assert_eq!(scene.radii, Radii::Uniform(0.1));
-        let auto = apply_choice(&mut scene, None);
-        assert!((auto.radius - 0.25).abs() < 1e-5 && scene.radii == Radii::Uniform(auto.radius));
+        // No choice, no file radii: adaptive, whose median on this grid is half the spacing.
+        let default = apply_choice(&mut scene, None);
+        assert!((default.radius - 0.25).abs() < 1e-5, "{}", default.radius);
+        assert_eq!(default.adaptive, Some(DEFAULT_K));
+        assert!(matches!(scene.radii, Radii::PerPoint(_)));
     }
 
     #[test]

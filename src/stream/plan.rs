@@ -507,13 +507,21 @@ fn plan_sampled(
                 .truncate()
                 .as_vec2();
             let extent = (extent_hi - extent_lo).truncate().max_element() as f32;
+            // A survey reads blocks of the file, not every point near the eye: it cannot tell
+            // open space, so `auto` stands at the centre at its default height.
+            let height = match choice {
+                CameraChoice::Auto => Some(options.prepare.height.unwrap_or_else(|| {
+                    placement::default_eye_height(radius::median_spacing(&scene))
+                })),
+                _ => options.prepare.height,
+            };
             origin
                 + placement::camera_position_in(
                     &scene,
                     centre,
                     extent,
-                    choice,
-                    options.prepare.height,
+                    CameraChoice::Center,
+                    height,
                 )
                 .ok_or_else(|| PrepareError::CameraPlacement {
                     path: path.to_path_buf(),
@@ -637,7 +645,7 @@ mod tests {
             assert_eq!(whole.radii, core.scene.radii, "{name}");
             match &core.scene.radii {
                 Radii::Uniform(r) => assert!(plan.radius == *r && !plan.keep_file_radii),
-                Radii::PerPoint(_) => assert!(plan.keep_file_radii),
+                Radii::PerPoint(_) => assert!(plan.keep_file_radii || plan.adaptive.is_some()),
             }
             assert_eq!(
                 plan.color.colors(whole).unwrap(),
