@@ -77,6 +77,17 @@ fn default_render_has_fewer_holes_than_the_old_default() {
         let before = measure(name, &path, CameraChoice::Center, old);
         let now = measure(name, &path, CameraChoice::Auto, None);
         assert!(now < before, "{name}: {now} % holes, {before} % before");
+        // Measured at 512 wide: Autzen 1.06 % before, 1.01 % now (the camera 27 m up sees the
+        // gaps between scan lines that car-sized bubbles at 1.7 m hid); the lion 20.4 % before,
+        // 1.42 % now.
+        let (was, is) = match name {
+            "autzen" => (1.04, 1.03),
+            _ => (15.0, 2.0),
+        };
+        assert!(
+            before > was && now < is,
+            "{name}: {now} % holes, {before} % before"
+        );
     }
 }
 

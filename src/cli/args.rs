@@ -209,7 +209,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N|auto")]
     pub subsample: Option<Subsample>,
     /// Eye height above the local ground with --camera auto or center, metres [default: 1.7,
-    /// or 10 median point spacings when higher (sparse aerial data)].
+    /// or 20 median point spacings when higher (sparse aerial data)].
     #[arg(long, value_name = "H", value_parser = parse::distance)]
     pub height: Option<f64>,
 }
