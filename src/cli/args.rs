@@ -76,8 +76,9 @@ pub struct ViewArgs {
     /// Rasterizer ODS inverse (with --stereo ods).
     #[arg(long, value_enum, ignore_case = true, default_value = "exact")]
     pub ods_offset: OdsOffset,
-    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
-    /// file's per-point `radius` when it has one, else auto.
+    /// Sphere radius in metres, `auto` (half the median point spacing) or `adaptive[:K]`
+    /// (per point, from K nearest neighbours, default K 8). Default: the file's per-point
+    /// `radius` when it has one, else adaptive:8.
     #[arg(long)]
     pub radius: Option<RadiusChoice>,
     /// Up axis of the file.
