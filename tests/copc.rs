@@ -28,7 +28,7 @@ fn fixture() -> PathBuf {
 
 fn options(lod: Lod) -> PrepareOptions {
     PrepareOptions {
-        camera: Some(DVec3::new(0.0, 0.0, 1.7)),
+        camera: omnicloud::prepare::CameraChoice::At(DVec3::new(0.0, 0.0, 1.7)),
         radius: Some(RadiusChoice::Fixed(0.08)),
         lod,
         ..PrepareOptions::default()

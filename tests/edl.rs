@@ -136,7 +136,8 @@ fn background_neighbours_do_not_darken_and_background_stays_transparent() {
 fn autzen() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
     let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, None).expect("camera placed");
+    placement::center_on_camera(&mut scene, placement::CameraChoice::Center, None)
+        .expect("camera placed");
     scene.radii = Radii::Uniform(radius::auto_radius(&scene));
     scene
 }

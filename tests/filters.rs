@@ -28,7 +28,11 @@ fn sample_points() -> Vec<las::Point> {
 
 fn with(filter: PointFilter, camera: Option<DVec3>) -> PrepareOptions {
     PrepareOptions {
-        camera,
+        // The old centre rule, which the distance counts below were measured from.
+        camera: camera.map_or(
+            omnicloud::prepare::CameraChoice::Center,
+            omnicloud::prepare::CameraChoice::At,
+        ),
         filter,
         ..PrepareOptions::default()
     }

@@ -215,13 +215,24 @@ fn vr_jpg_holds_both_eyes_of_the_same_render() {
     let dir = tempfile::tempdir().unwrap();
     let vr = dir.path().join("pano.vr.jpg");
     let tb = dir.path().join("pano_360_TB.png");
+    // The old defaults: at the centre, 1.7 m up, near objects make the eyes differ (the
+    // default camera, 27 m up on this sparse sample, sees little parallax), and half-spacing
+    // spheres leave the detail that needs more than one extended-XMP segment.
     let out = render_at(
         VR_WIDTH,
         &vr,
-        &["--stereo", "ods", "--yaw", "45", "--quiet"],
+        &[
+            "--stereo", "ods", "--yaw", "45", "--camera", "center", "--radius", "auto", "--quiet",
+        ],
     );
     assert!(out.stderr.is_empty(), "--quiet prints nothing");
-    let out = render_at(VR_WIDTH, &tb, &["--stereo", "ods", "--yaw", "45"]);
+    let out = render_at(
+        VR_WIDTH,
+        &tb,
+        &[
+            "--stereo", "ods", "--yaw", "45", "--camera", "center", "--radius", "auto",
+        ],
+    );
     assert!(!String::from_utf8_lossy(&out.stderr).contains("hint"));
 
     // The reference eyes: halves of the top-bottom PNG (left on top).

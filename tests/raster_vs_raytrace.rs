@@ -82,7 +82,8 @@ fn agree(scene: &Scene, settings: &RenderSettings, label: &str) -> Option<Compar
 fn autzen() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
     let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, None).expect("camera placed");
+    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, None)
+        .expect("camera placed");
     scene.radii = Radii::Uniform(radius::auto_radius(&scene));
     scene
 }

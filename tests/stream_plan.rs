@@ -5,7 +5,7 @@
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_scene};
-use omnicloud::prepare::radius::{RadiusChoice, auto_radius};
+use omnicloud::prepare::radius::RadiusChoice;
 use omnicloud::prepare::{PrepareOptions, placement};
 use omnicloud::render::{ColorMode, base_colors};
 use omnicloud::rng::SplitMix64;
@@ -233,9 +233,10 @@ fn write_terrain(path: &Path, laz: bool) {
 /// The in-core decisions, through the public pieces `prepare::prepare` uses.
 fn in_core(path: &Path) -> (Scene, DVec3, f32) {
     let (mut scene, _) = load_scene(path, &LoadOptions::default()).unwrap();
-    let camera = placement::center_on_camera(&mut scene, None).unwrap();
-    let radius = auto_radius(&scene);
-    scene.radii = Radii::Uniform(radius);
+    let camera =
+        placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Auto, None)
+            .unwrap();
+    let radius = omnicloud::prepare::radius::apply_choice(&mut scene, None).radius;
     (scene, camera, radius)
 }
 

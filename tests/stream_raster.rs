@@ -82,7 +82,7 @@ fn a_file_larger_than_the_survey_streams_exactly_like_the_in_core_render() {
     let radius = omnicloud::synthetic::ground_radius(points);
     let options = PlanOptions {
         prepare: PrepareOptions {
-            camera: Some(camera),
+            camera: omnicloud::prepare::CameraChoice::At(camera),
             radius: Some(RadiusChoice::Fixed(radius)),
             ..PrepareOptions::default()
         },

@@ -33,7 +33,7 @@ fn twenty_million_points_stream_through_the_gpu_under_the_memory_cap() {
     let radius = omnicloud::synthetic::ground_radius(points);
     let options = PlanOptions {
         prepare: PrepareOptions {
-            camera: Some(camera),
+            camera: omnicloud::prepare::CameraChoice::At(camera),
             radius: Some(RadiusChoice::Fixed(radius)),
             ..PrepareOptions::default()
         },

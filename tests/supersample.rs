@@ -100,7 +100,12 @@ fn a_half_covered_white_pixel_over_black_is_srgb_188() {
 fn the_sample_supersampled_keeps_its_silhouette_and_both_renderers_agree() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
     let (mut scene, _) = omnicloud::io::load_scene(path.as_ref(), &Default::default()).unwrap();
-    omnicloud::prepare::placement::center_on_camera(&mut scene, None).unwrap();
+    omnicloud::prepare::placement::center_on_camera(
+        &mut scene,
+        omnicloud::prepare::CameraChoice::Center,
+        None,
+    )
+    .unwrap();
     scene.radii = omnicloud::Radii::Uniform(omnicloud::prepare::radius::auto_radius(&scene));
     let mut settings = RenderSettings::new(128, Camera::new(DVec3::ZERO, 0.0));
     settings.color = ColorMode::Rgb;

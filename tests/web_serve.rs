@@ -35,13 +35,16 @@ fn sample() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
 }
 
-/// The sample prepared as `serve` prepares it (automatic camera, auto radius), once.
+/// The sample prepared as `serve` prepares it (camera at the centre, default radius), once.
 fn scene() -> &'static Scene {
     static SCENE: OnceLock<Scene> = OnceLock::new();
     SCENE.get_or_init(|| {
         prepare(
             &sample(),
-            &PrepareOptions::default(),
+            &PrepareOptions {
+                camera: omnicloud::prepare::CameraChoice::Center,
+                ..PrepareOptions::default()
+            },
             &ProgressBar::hidden(),
         )
         .unwrap()
@@ -346,7 +349,7 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
     };
     assert!(
         lines[0]
-            .contains("autzen_trim.laz (110000 points, radius 0.6679 m, map 128x62, ODS 256x256"),
+            .contains("autzen_trim.laz (110000 points, radius adaptive:8 (median 1.2154 m), map 128x62, ODS 256x256"),
         "{lines:?}"
     );
     let addr: SocketAddr = url.parse().unwrap();

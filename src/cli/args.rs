@@ -8,7 +8,9 @@ use glam::DVec3;
 use crate::bench::BenchMode;
 use crate::io::Up;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
-use crate::prepare::{LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample};
+use crate::prepare::{
+    CameraChoice, LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample,
+};
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
 use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
@@ -52,10 +54,11 @@ pub enum Command {
 /// Scene, camera and stereo options shared by `render` and `bench`.
 #[derive(Debug, Args)]
 pub struct ViewArgs {
-    /// Camera centre in file coordinates (default: XY centre of the bounds, 1.7 m above the
-    /// ground near it).
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse::vec3, allow_hyphen_values = true)]
-    pub camera: Option<DVec3>,
+    /// Camera: auto (open space near the scan's centre, no point within 0.6 × the eye height
+    /// of the eye, ground below), center (the XY centre of the bounds, above the ground
+    /// there) or X,Y,Z in file coordinates [default: auto].
+    #[arg(long, value_name = "auto|center|X,Y,Z", allow_hyphen_values = true)]
+    pub camera: Option<CameraChoice>,
     /// Heading in degrees: 0 looks along +Y, 90 along +X.
     #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
     pub yaw: f64,
@@ -78,8 +81,9 @@ pub struct ViewArgs {
     /// Rasterizer ODS inverse (with --stereo ods).
     #[arg(long, value_enum, ignore_case = true, default_value = "exact")]
     pub ods_offset: OdsOffset,
-    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
-    /// file's per-point `radius` when it has one, else auto.
+    /// Sphere radius in metres, `auto` (half the median point spacing) or `adaptive[:K]`
+    /// (per point, from K nearest neighbours, default K 8). Default: the file's per-point
+    /// `radius` when it has one, else adaptive:8.
     #[arg(long)]
     pub radius: Option<RadiusChoice>,
     /// Up axis of the file.
@@ -128,7 +132,8 @@ impl ViewArgs {
     /// Where the scene's camera goes and how its file is read.
     pub fn prepare_options(&self) -> PrepareOptions {
         PrepareOptions {
-            camera: self.camera,
+            camera: self.camera.unwrap_or_default(),
+            height: None,
             up: self.up,
             radius: self.radius,
             filter: PointFilter {
@@ -218,6 +223,10 @@ pub struct RenderArgs {
     /// threshold, `off` reads every point.
     #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
     pub lod: LodChoice,
+    /// Eye height above the local ground with --camera auto or center, metres [default: 1.7,
+    /// or 20 median point spacings when higher (sparse aerial data)].
+    #[arg(long, value_name = "H", value_parser = parse::distance)]
+    pub height: Option<f64>,
 }
 
 impl RenderArgs {
@@ -226,11 +235,13 @@ impl RenderArgs {
         self.look.look()
     }
 
-    /// [`ViewArgs::prepare_options`] with the level of detail for the width drawn (the
-    /// supersampled one: its pixels are the ones the spacing is compared with).
+    /// [`ViewArgs::prepare_options`] with the eye height and the level of detail for the
+    /// width drawn (the supersampled one: its pixels are the ones the spacing is compared
+    /// with).
     pub fn prepare_options(&self) -> PrepareOptions {
         PrepareOptions {
             lod: self.lod.at_width(self.render_width()),
+            height: self.height,
             ..self.view.prepare_options()
         }
     }
@@ -430,7 +441,10 @@ mod tests {
         let Command::Render(r) = cli.command else {
             panic!("not render")
         };
-        assert_eq!(r.view.camera, Some(DVec3::new(-637000.5, 851000.0, 12.0)));
+        assert_eq!(
+            r.view.camera,
+            Some(CameraChoice::At(DVec3::new(-637000.5, 851000.0, 12.0)))
+        );
         assert_eq!(r.view.yaw, -30.0);
         assert_eq!(r.proxy, Proxy::Static(16));
         assert_eq!(r.view.pole_merge_south, Some(PoleMerge::Off));

@@ -8,7 +8,9 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
-use crate::prepare::{FilterCounts, PrepareOptions, Prepared, prepare_files, subsample};
+use crate::prepare::{
+    CameraChoice, FilterCounts, PrepareOptions, Prepared, prepare_files, subsample,
+};
 use crate::projection::{Camera, Stereo, StereoKind};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
@@ -28,6 +30,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if format == ImageFormat::VrJpeg && args.separate_eyes {
         bail!("a VR photo (.vr.jpg) holds both eyes in one file: drop --separate-eyes");
+    }
+    if args.height.is_some() && matches!(args.view.camera, Some(CameraChoice::At(_))) {
+        bail!("--height places an automatic camera: drop it with --camera X,Y,Z");
     }
     if let Some(d) = &args.depth {
         ImageFormat::require(d, ImageFormat::Exr)?;
@@ -161,7 +166,7 @@ pub(super) fn say_filtered(
     kept: u64,
     say: &impl Fn(String),
 ) {
-    if !args.view.prepare_options().filter.keeps_all() {
+    if !args.prepare_options().filter.keeps_all() {
         say(format!(
             "filters: {filtered}; {kept} of {} points kept",
             kept + filtered.total()

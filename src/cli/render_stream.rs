@@ -84,6 +84,8 @@ pub(super) fn rasterize(
         plan.lod.map_or(plan.declared, |l| l.points_read),
         if plan.keep_file_radii {
             "per point".to_string()
+        } else if let Some(k) = plan.adaptive {
+            format!("adaptive:{k} (median {:.4} m)", plan.radius)
         } else {
             format!("{:.4} m", plan.radius)
         },

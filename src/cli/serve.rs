@@ -36,8 +36,9 @@ pub struct ServeArgs {
     /// The map's longer side, pixels.
     #[arg(long, default_value = "1024", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub map_size: u32,
-    /// Sphere radius in metres, or `auto` (half the median point spacing). Default: the
-    /// file's per-point `radius` when it has one, else auto.
+    /// Sphere radius in metres, `auto` (half the median point spacing) or `adaptive[:K]`
+    /// (per point, from K nearest neighbours). Default: the file's per-point `radius` when
+    /// it has one, else adaptive:8.
     #[arg(long)]
     pub radius: Option<RadiusChoice>,
     /// Up axis of the file.
@@ -73,7 +74,8 @@ fn eye_height(s: &str) -> Result<f64, String> {
 pub fn run(args: &ServeArgs) -> Result<()> {
     let started = Instant::now();
     let options = PrepareOptions {
-        camera: None,
+        // The served page places the camera itself; its default stands at the centre.
+        camera: crate::prepare::CameraChoice::Center,
         up: args.up,
         radius: args.radius,
         ..PrepareOptions::default()
@@ -82,9 +84,12 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     let prepared = prepare(&args.file, &options, &pb)?;
     pb.finish_and_clear();
     super::warn_dropped(&args.file, &prepared.report, &|m| eprintln!("{m}"));
-    let radius = match &prepared.scene.radii {
-        Radii::Uniform(r) => format!("{r:.4} m"),
-        Radii::PerPoint(_) => "per point".to_string(),
+    let radius = match (&prepared.scene.radii, prepared.radii.adaptive) {
+        (Radii::Uniform(r), _) => format!("{r:.4} m"),
+        (Radii::PerPoint(_), Some(k)) => {
+            format!("adaptive:{k} (median {:.4} m)", prepared.radii.radius)
+        }
+        (Radii::PerPoint(_), None) => "per point".to_string(),
     };
     let live = LiveOptions {
         width: args.width,

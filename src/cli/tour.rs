@@ -378,13 +378,7 @@ fn render_command(args: &TourArgs) -> Vec<String> {
         ));
     }
     if let Some(r) = args.view.radius {
-        a.push(format!(
-            "--radius={}",
-            match r {
-                crate::prepare::RadiusChoice::Auto => "auto".to_string(),
-                crate::prepare::RadiusChoice::Fixed(v) => v.to_string(),
-            }
-        ));
+        a.push(format!("--radius={r}"));
     }
     a.push(format!(
         "--up={}",

@@ -24,6 +24,7 @@ pub mod eyes;
 mod files;
 #[cfg(feature = "charts")]
 pub mod heatmap;
+pub mod holes;
 mod measure;
 mod report;
 mod samples;
@@ -34,6 +35,7 @@ pub use error::CompareError;
 pub use files::compare_files;
 #[cfg(feature = "charts")]
 pub use heatmap::{LegendLayout, heatmap};
+pub use holes::{HoleStats, holes};
 pub use measure::{Regions, compare, compare_eyes};
 pub use report::{CompareReport, EyeReport};
 pub use samples::Samples;

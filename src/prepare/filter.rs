@@ -422,7 +422,10 @@ pub fn files_to_read(
     }
     let mut read = Vec::with_capacity(paths.len());
     for (path, info) in paths.iter().zip(infos) {
-        match options.filter.skips_file(info, options.up, options.camera) {
+        match options
+            .filter
+            .skips_file(info, options.up, options.camera.given())
+        {
             Some(c) => counts += c,
             None => read.push(path.clone()),
         }

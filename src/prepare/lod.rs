@@ -252,7 +252,7 @@ pub fn read(
         let i = paths.iter().position(|q| q == p).unwrap_or(0);
         io::open_nodes(p, &pick(&octrees[i]))
     };
-    let camera_world = match options.camera {
+    let camera_world = match options.camera.given() {
         Some(c) => c,
         None => {
             let load = LoadOptions {
@@ -266,7 +266,7 @@ pub fn read(
             let (coarse, _) = options
                 .filter
                 .apply(coarse, options.up, Stage::BeforeCamera);
-            placement::auto_camera_position(&coarse)
+            placement::camera_position(&coarse, options.camera, options.height)
                 .map(|c| coarse.origin + c)
                 .ok_or_else(|| PrepareError::CameraPlacement {
                     path: paths[0].clone(),
@@ -343,8 +343,9 @@ impl LodRead {
         }
     }
 
-    /// Sizes the spheres of the read scene: the radius rule's radius (`auto` measured on the
-    /// points at full detail) for points at full detail, and at least
+    /// Sizes the spheres of the read scene: the radius rule's radius (`auto`, also for
+    /// `adaptive` and no choice, measured on the points at full detail: a selection's
+    /// neighbours are not the file's) for points at full detail, and at least
     /// [`LOD_RADIUS_FACTOR`] times their level's spacing where refinement stopped.
     pub fn apply_radii(
         &self,
@@ -359,7 +360,7 @@ impl LodRead {
             .collect();
         let base = match choice {
             Some(RadiusChoice::Fixed(r)) => r,
-            Some(RadiusChoice::Auto) | None => {
+            Some(RadiusChoice::Auto | RadiusChoice::Adaptive { .. }) | None => {
                 let full: Vec<bool> = spacing.iter().map(Option::is_none).collect();
                 let detailed = scene.select(&full);
                 if detailed.len() >= 2 {
@@ -377,6 +378,7 @@ impl LodRead {
         RadiusRule {
             radius: base,
             keep_file_radii: true,
+            adaptive: None,
         }
     }
 }

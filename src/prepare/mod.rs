@@ -18,15 +18,19 @@ use crate::scene::Scene;
 
 pub use filter::{FilterCounts, FilterError, PointFilter};
 pub use lod::{Lod, LodChoice, LodReport};
+pub use placement::CameraChoice;
 pub use radius::{RadiusChoice, RadiusRule};
 pub use subsample::Subsample;
 
 /// What preparation may be told; the rest is decided from the file.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PrepareOptions {
-    /// Camera world position (file coordinates); `None` = automatic
-    /// ([`placement::auto_camera_position`]).
-    pub camera: Option<DVec3>,
+    /// Where the camera goes: open space near the centre (default), the centre, or a world
+    /// position (file coordinates) ([`placement::camera_position`]).
+    pub camera: CameraChoice,
+    /// Eye height above the local ground for the automatic choices, metres; `None` =
+    /// [`placement::default_eye_height`].
+    pub height: Option<f64>,
     /// Up axis of the file.
     pub up: Up,
     /// Sphere radius; `None` = the file's per-point radii when it has them, else auto
@@ -120,7 +124,7 @@ pub fn prepare_files(
         return Err(FilterError::NothingLeft { counts: skipped }.into());
     }
     let load = LoadOptions {
-        origin: options.origin.or(options.camera),
+        origin: options.origin.or(options.camera.given()),
         up: options.up,
         ..LoadOptions::default()
     };
@@ -137,7 +141,10 @@ pub fn prepare_files(
         }
     };
     // A view-dependent read has placed the camera already.
-    let camera = options.camera.or(lod_read.as_ref().map(|l| l.camera_world));
+    let camera = match &lod_read {
+        Some(l) if options.camera.given().is_none() => CameraChoice::At(l.camera_world),
+        _ => options.camera,
+    };
     let (mut scene, mut filtered) =
         options
             .filter
@@ -148,11 +155,10 @@ pub fn prepare_files(
     }
     let placed = match options.origin {
         // The scene stays in the origin's frame, loaded there once (no second rounding).
-        Some(_) => match camera {
-            Some(c) => Some(c),
-            None => placement::auto_camera_position(&scene).map(|p| scene.origin + p),
-        },
-        None => placement::center_on_camera(&mut scene, camera),
+        Some(_) => {
+            placement::camera_position(&scene, camera, options.height).map(|p| scene.origin + p)
+        }
+        None => placement::center_on_camera(&mut scene, camera, options.height),
     };
     let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
         path: paths[0].clone(),

@@ -8,6 +8,9 @@
 //! The estimate takes bounded time whatever the cloud size: at most [`MAX_QUERIES`] points
 //! (an even stride through the cloud) look up their neighbour in a spatial hash grid over
 //! all points, which costs O(n) to build.
+//!
+//! `adaptive[:K]` gives each point its own radius from its K nearest neighbours
+//! ([`adaptive_radii`]): sparse regions close while dense ones stay sharp.
 
 use std::collections::HashMap;
 use std::str::FromStr;
@@ -25,19 +28,117 @@ pub enum RadiusChoice {
     Fixed(f32),
     /// Half the median nearest-neighbour spacing ([`auto_radius`]).
     Auto,
+    /// Each point's own radius from its `k` nearest neighbours ([`adaptive_radii`]).
+    Adaptive {
+        /// Neighbours counted.
+        k: usize,
+    },
 }
 
-/// `M` metres (positive) or `auto`.
+/// `M` metres (positive), `auto`, or `adaptive[:K]` (K from 1 to [`MAX_K`]).
 impl FromStr for RadiusChoice {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        if s.trim().eq_ignore_ascii_case("auto") {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("auto") {
             return Ok(RadiusChoice::Auto);
         }
-        let v = crate::value::positive_metres(s).map_err(|e| format!("{e} (or `auto`)"))?;
+        let lower = t.to_ascii_lowercase();
+        if let Some(rest) = lower.strip_prefix("adaptive") {
+            let k = match rest.strip_prefix(':') {
+                None if rest.is_empty() => DEFAULT_K,
+                Some(k) => k
+                    .trim()
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|k| (1..=MAX_K).contains(k))
+                    .ok_or_else(|| {
+                        format!("adaptive:K needs K, the neighbours counted, from 1 to {MAX_K}; got `{s}`")
+                    })?,
+                None => return Err(format!("expected `adaptive` or `adaptive:K`, got `{s}`")),
+            };
+            return Ok(RadiusChoice::Adaptive { k });
+        }
+        let v = crate::value::positive_metres(s)
+            .map_err(|e| format!("{e} (or `auto`, `adaptive[:K]`)"))?;
         Ok(RadiusChoice::Fixed(v as f32))
     }
+}
+
+/// As `--radius` spells it (parses back to the same choice).
+impl std::fmt::Display for RadiusChoice {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RadiusChoice::Fixed(v) => write!(f, "{v}"),
+            RadiusChoice::Auto => f.write_str("auto"),
+            RadiusChoice::Adaptive { k } => write!(f, "adaptive:{k}"),
+        }
+    }
+}
+
+/// Neighbours `adaptive` counts without `:K`: 8 rings a point of a square grid with its 4
+/// edge and 4 diagonal neighbours, so the estimate sees the local surface, not one scan line.
+pub const DEFAULT_K: usize = 8;
+
+/// Most neighbours `adaptive:K` may count.
+pub const MAX_K: usize = 64;
+
+/// Adaptive radii are clamped to this many times the median adaptive radius: an isolated
+/// outlier stays a point instead of a sphere as large as its distance to the cloud.
+pub const ADAPTIVE_MAX: f32 = 3.0;
+
+/// Adaptive radii are clamped to at least this share of the median adaptive radius: repeated
+/// points (distance 0) keep a visible sphere.
+pub const ADAPTIVE_MIN: f32 = 0.25;
+
+/// Per-point sphere radii from each point's `k` nearest neighbours (the point itself not
+/// counted), in `positions` order; `None` with fewer than two distinct points.
+///
+/// The `k` neighbours lie within the distance d_k to the k-th of them, so each point's share
+/// of that disc of the surface has area π·d_k²/k: its radius is the radius of that share,
+/// d_k/√k. On a regular grid of spacing s, d_8 = √2·s gives s/2, the `auto` radius; where the
+/// sampling thins, the radius grows with it. Radii are clamped to [[`ADAPTIVE_MIN`],
+/// [`ADAPTIVE_MAX`]] times their median.
+pub fn adaptive_radii(positions: &[Vec3], k: usize) -> Option<Vec<f32>> {
+    let points: Vec<[f32; 3]> = positions
+        .iter()
+        .map(|p| {
+            if p.is_finite() {
+                p.to_array()
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect();
+    if points.len() < 2 || k == 0 {
+        return None;
+    }
+    let k = k.min(points.len() - 1);
+    let tree = kiddo::ImmutableKdTree::<f32, 3>::new_from_slice(&points).ok()?;
+    let wanted = std::num::NonZero::new(k + 1).expect("k + 1 > 0");
+    let mut radii: Vec<f32> = points
+        .par_iter()
+        .map(|p| {
+            let near = tree
+                .query(p)
+                .nearest_n::<kiddo::SquaredEuclidean<f32>>(wanted)
+                .execute();
+            // Sorted by distance, the point itself (distance 0) first.
+            near.last().map_or(0.0, |n| n.distance.sqrt()) / (k as f32).sqrt()
+        })
+        .collect();
+    let mut positive: Vec<f32> = radii.iter().copied().filter(|r| *r > 0.0).collect();
+    if positive.is_empty() {
+        return None;
+    }
+    let mid = positive.len() / 2;
+    let median = *positive.select_nth_unstable_by(mid, f32::total_cmp).1;
+    let (lo, hi) = (ADAPTIVE_MIN * median, ADAPTIVE_MAX * median);
+    for r in &mut radii {
+        *r = r.clamp(lo, hi);
+    }
+    Some(radii)
 }
 
 /// The radii [`apply_choice`] gave a scene, for sizing later points of the same file alike.
@@ -47,18 +148,46 @@ pub struct RadiusRule {
     pub radius: f32,
     /// The file's per-point radii are kept.
     pub keep_file_radii: bool,
+    /// Per-point radii from this many nearest neighbours ([`adaptive_radii`]); `radius` is
+    /// then their median.
+    pub adaptive: Option<usize>,
 }
 
 /// Sizes the spheres of a freshly loaded `scene`: a fixed radius; `auto` ([`auto_radius`]);
-/// or, with no choice, the file's per-point radii when the scene has them, else `auto`.
+/// `adaptive` ([`adaptive_radii`]); or, with no choice, the file's per-point radii when the
+/// scene has them, else `adaptive` with [`DEFAULT_K`] neighbours.
 pub fn apply_choice(scene: &mut Scene, choice: Option<RadiusChoice>) -> RadiusRule {
+    // Without a choice or file radii: adaptive, which leaves fewer holes than `auto` (see
+    // docs/PICTURES.md).
+    let choice = match choice {
+        None if !matches!(scene.radii, Radii::PerPoint(_)) => {
+            Some(RadiusChoice::Adaptive { k: DEFAULT_K })
+        }
+        c => c,
+    };
+    if let Some(RadiusChoice::Adaptive { k }) = choice
+        && let Some(radii) = adaptive_radii(&scene.positions, k)
+    {
+        let mut sorted = radii.clone();
+        let mid = sorted.len() / 2;
+        let median = *sorted.select_nth_unstable_by(mid, f32::total_cmp).1;
+        scene.radii = Radii::PerPoint(radii);
+        return RadiusRule {
+            radius: median,
+            keep_file_radii: false,
+            adaptive: Some(k),
+        };
+    }
     let (radius, keep_file_radii) = match choice {
         Some(RadiusChoice::Fixed(r)) => (r, false),
         // The loader gave invalid per-point radii its default radius.
         None if matches!(scene.radii, Radii::PerPoint(_)) => {
             (LoadOptions::default().default_radius, true)
         }
-        Some(RadiusChoice::Auto) | None => (auto_radius(scene), false),
+        // Adaptive on a scene too small for neighbours: the auto radius.
+        Some(RadiusChoice::Auto | RadiusChoice::Adaptive { .. }) | None => {
+            (auto_radius(scene), false)
+        }
     };
     if !keep_file_radii {
         scene.radii = Radii::Uniform(radius);
@@ -66,6 +195,7 @@ pub fn apply_choice(scene: &mut Scene, choice: Option<RadiusChoice>) -> RadiusRu
     RadiusRule {
         radius,
         keep_file_radii,
+        adaptive: None,
     }
 }
 
@@ -300,7 +430,7 @@ mod tests {
         assert_eq!("0.25".parse(), Ok(RadiusChoice::Fixed(0.25)));
         for bad in ["-1", "0", "x", "inf"] {
             let e = bad.parse::<RadiusChoice>().unwrap_err();
-            assert!(e.ends_with("(or `auto`)"), "{bad}: {e}");
+            assert!(e.ends_with("(or `auto`, `adaptive[:K]`)"), "{bad}: {e}");
         }
     }
 
@@ -313,8 +443,96 @@ mod tests {
         let fixed = apply_choice(&mut scene, Some(RadiusChoice::Fixed(0.1)));
         assert_eq!((fixed.radius, fixed.keep_file_radii), (0.1, false));
         assert_eq!(scene.radii, Radii::Uniform(0.1));
-        let auto = apply_choice(&mut scene, None);
-        assert!((auto.radius - 0.25).abs() < 1e-5 && scene.radii == Radii::Uniform(auto.radius));
+        // No choice, no file radii: adaptive, whose median on this grid is half the spacing.
+        let default = apply_choice(&mut scene, None);
+        assert!((default.radius - 0.25).abs() < 1e-5, "{}", default.radius);
+        assert_eq!(default.adaptive, Some(DEFAULT_K));
+        assert!(matches!(scene.radii, Radii::PerPoint(_)));
+    }
+
+    #[test]
+    fn adaptive_choices_parse_and_print_back() {
+        assert_eq!(
+            "adaptive".parse(),
+            Ok(RadiusChoice::Adaptive { k: DEFAULT_K })
+        );
+        assert_eq!("Adaptive:12".parse(), Ok(RadiusChoice::Adaptive { k: 12 }));
+        for bad in [
+            "adaptive:0",
+            "adaptive:65",
+            "adaptive:x",
+            "adaptive:",
+            "adaptivex",
+        ] {
+            let e = bad.parse::<RadiusChoice>().unwrap_err();
+            assert!(e.contains("adaptive"), "{bad}: {e}");
+        }
+        for c in [
+            RadiusChoice::Auto,
+            RadiusChoice::Fixed(0.25),
+            RadiusChoice::Adaptive { k: 5 },
+        ] {
+            assert_eq!(c.to_string().parse(), Ok(c));
+        }
+    }
+
+    #[test]
+    fn adaptive_radius_of_a_regular_grid_is_half_its_spacing() {
+        let scene = grid_scene(60, 40, 1, 0.25);
+        let radii = adaptive_radii(&scene.positions, DEFAULT_K).unwrap();
+        // Away from the edges every point sees the same 8 neighbours: exactly s/2.
+        let inner = (0..scene.len()).filter(|i| {
+            let (x, y) = (i % 60, i / 60);
+            (2..58).contains(&x) && (2..38).contains(&y)
+        });
+        for i in inner {
+            assert!((radii[i] - 0.125).abs() < 1e-5, "point {i}: {}", radii[i]);
+        }
+        // Edges and corners see farther neighbours, within the clamp.
+        assert!(
+            radii
+                .iter()
+                .all(|r| (0.125..=0.125 * ADAPTIVE_MAX + 1e-6).contains(r))
+        );
+    }
+
+    #[test]
+    fn adaptive_radius_grows_where_sampling_thins_and_clamps_outliers() {
+        // A dense grid (0.1 m) beside a sparse one (0.25 m), and one far outlier.
+        let mut pts: Vec<Vec3> = grid_scene(50, 50, 1, 0.1).positions;
+        pts.extend(
+            grid_scene(20, 20, 1, 0.25)
+                .positions
+                .iter()
+                .map(|p| *p + Vec3::new(20.0, 0.0, 0.0)),
+        );
+        pts.push(Vec3::new(500.0, 500.0, 50.0));
+        let radii = adaptive_radii(&pts, DEFAULT_K).unwrap();
+        let dense = radii[25 * 50 + 25];
+        let sparse = radii[2500 + 10 * 20 + 10];
+        assert!((dense - 0.05).abs() < 1e-5, "{dense}");
+        assert!((sparse - 0.125).abs() < 1e-5, "{sparse}");
+        // The median is the dense radius: the outlier gets at most 3 times it.
+        let outlier = *radii.last().unwrap();
+        assert!((outlier - ADAPTIVE_MAX * 0.05).abs() < 1e-5, "{outlier}");
+        // Repeated points keep a quarter of the median.
+        let mut dup = grid_scene(30, 30, 1, 0.2).positions;
+        dup.extend(vec![Vec3::new(1.0, 1.0, 0.0); 20]);
+        let radii = adaptive_radii(&dup, DEFAULT_K).unwrap();
+        assert!((radii.last().unwrap() - ADAPTIVE_MIN * 0.1).abs() < 1e-5);
+    }
+
+    #[test]
+    fn adaptive_rule_gives_per_point_radii_and_their_median() {
+        let mut scene = grid_scene(30, 30, 1, 0.2);
+        let rule = apply_choice(&mut scene, Some(RadiusChoice::Adaptive { k: 8 }));
+        assert_eq!(rule.adaptive, Some(8));
+        assert!((rule.radius - 0.1).abs() < 1e-5, "{}", rule.radius);
+        assert!(matches!(scene.radii, Radii::PerPoint(ref r) if r.len() == 900));
+        // Too few points for neighbours: the auto radius.
+        let mut one = Scene::new(DVec3::ZERO, vec![Vec3::ONE], 0.1);
+        let rule = apply_choice(&mut one, Some(RadiusChoice::Adaptive { k: 8 }));
+        assert_eq!((rule.radius, rule.adaptive), (FALLBACK_RADIUS, None));
     }
 
     #[test]

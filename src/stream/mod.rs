@@ -79,6 +79,7 @@ pub fn chunk_scene(
     up: Up,
     radius: f32,
     keep_file_radii: bool,
+    adaptive: Option<usize>,
 ) -> (Scene, u64) {
     let keep: Vec<bool> = chunk
         .positions
@@ -103,11 +104,17 @@ pub fn chunk_scene(
             returns: chunk.returns,
         },
     };
-    if dropped == 0 {
-        (scene, 0)
+    let mut scene = if dropped == 0 {
+        scene
     } else {
-        (scene.select(&keep), dropped)
+        scene.select(&keep)
+    };
+    if let Some(radii) =
+        adaptive.and_then(|k| crate::prepare::radius::adaptive_radii(&scene.positions, k))
+    {
+        scene.radii = Radii::PerPoint(radii);
     }
+    (scene, dropped)
 }
 
 /// Streams the planned file through `sink` in chunks of `chunk_points`: `plan.whole` when the

@@ -18,8 +18,8 @@ use super::StreamError;
 use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk, RawRgb, Up};
 use crate::prepare::filter::{Stage, files_to_read};
 use crate::prepare::{
-    FilterCounts, FilterError, PointFilter, PrepareError, PrepareOptions, Prepared, placement,
-    prepare_files, radius,
+    CameraChoice, FilterCounts, FilterError, PointFilter, PrepareError, PrepareOptions, Prepared,
+    placement, prepare_files, radius,
 };
 use crate::render::{ColorMode, ColorRule};
 use crate::scene::{Attributes, Radii, Returns, Scene, extend_masked, masked};
@@ -78,6 +78,9 @@ pub struct StreamPlan {
     pub radius: f32,
     /// The file's per-point radii are used (no radius was asked for and the file has them).
     pub keep_file_radii: bool,
+    /// Per-point radii from this many nearest neighbours, found within each streamed chunk
+    /// (`--radius adaptive`); `radius` is then the survey's median.
+    pub adaptive: Option<usize>,
     /// Colour mode with its ranges fixed on the survey (heights relative to the camera).
     pub color: ColorRule,
     /// How 16-bit colour becomes 8-bit, from the survey's largest channel value.
@@ -111,6 +114,7 @@ impl StreamPlan {
             self.up,
             self.radius,
             self.keep_file_radii,
+            self.adaptive,
         )
     }
 }
@@ -196,6 +200,7 @@ fn plan_whole(
         camera: camera_world,
         radius: radii.radius,
         keep_file_radii: radii.keep_file_radii,
+        adaptive: radii.adaptive,
         color,
         color_scale: report.color_scale.unwrap_or(ColorScale::Direct8),
         surveyed: report.points_read,
@@ -503,17 +508,30 @@ fn plan_sampled(
         .into());
     }
     let camera = match options.prepare.camera {
-        Some(c) => c,
-        None => {
+        CameraChoice::At(c) => c,
+        choice => {
             let centre = ((extent_lo + extent_hi) * 0.5 - origin)
                 .truncate()
                 .as_vec2();
             let extent = (extent_hi - extent_lo).truncate().max_element() as f32;
+            // A survey reads blocks of the file, not every point near the eye: it cannot tell
+            // open space, so `auto` stands at the centre at its default height.
+            let height = match choice {
+                CameraChoice::Auto => Some(options.prepare.height.unwrap_or_else(|| {
+                    placement::default_eye_height(radius::median_spacing(&scene))
+                })),
+                _ => options.prepare.height,
+            };
             origin
-                + placement::ground_camera_position(&scene, centre, extent).ok_or_else(|| {
-                    PrepareError::CameraPlacement {
-                        path: path.to_path_buf(),
-                    }
+                + placement::camera_position_in(
+                    &scene,
+                    centre,
+                    extent,
+                    CameraChoice::Center,
+                    height,
+                )
+                .ok_or_else(|| PrepareError::CameraPlacement {
+                    path: path.to_path_buf(),
                 })?
         }
     };
@@ -534,6 +552,7 @@ fn plan_sampled(
         camera,
         radius: radii.radius,
         keep_file_radii: radii.keep_file_radii,
+        adaptive: radii.adaptive,
         color,
         color_scale,
         surveyed: sample.read,
@@ -613,7 +632,7 @@ mod tests {
                 (lo + hi) * 0.5 + DVec3::new(0.3, -0.2, 1.0)
             });
             let prepare_options = PrepareOptions {
-                camera,
+                camera: camera.map_or(CameraChoice::Auto, CameraChoice::At),
                 up: Up::Z,
                 radius,
                 ..PrepareOptions::default()
@@ -634,7 +653,7 @@ mod tests {
             assert_eq!(whole.radii, core.scene.radii, "{name}");
             match &core.scene.radii {
                 Radii::Uniform(r) => assert!(plan.radius == *r && !plan.keep_file_radii),
-                Radii::PerPoint(_) => assert!(plan.keep_file_radii),
+                Radii::PerPoint(_) => assert!(plan.keep_file_radii || plan.adaptive.is_some()),
             }
             assert_eq!(
                 plan.color.colors(whole).unwrap(),

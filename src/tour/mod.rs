@@ -123,7 +123,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
     let origin = path_origin(&keyframes, &request.scan);
     let options = PrepareOptions {
         origin: Some(origin),
-        camera: Some(origin),
+        camera: crate::prepare::CameraChoice::At(origin),
         ..request.prepare
     };
     let prepared = prepare(&request.scan, &options, progress)?;
