@@ -9,7 +9,7 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::output::{self, OutputOptions, read_exr};
 use omnicloud::prepare::{PrepareOptions, prepare_files};
-use omnicloud::projection::{Camera, Equirect, Stereo};
+use omnicloud::projection::{Camera, Image, Stereo};
 use omnicloud::raytrace;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
 
@@ -55,7 +55,7 @@ fn the_default_output_is_the_plain_render_byte_for_byte() {
     )
     .unwrap();
     let settings = RenderSettings {
-        image: Equirect::from_width(128),
+        image: Image::equirect(128),
         camera: Camera::new(DVec3::ZERO, 0.0),
         stereo: Stereo::Mono,
         color: ColorMode::Auto,

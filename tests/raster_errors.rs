@@ -5,7 +5,7 @@ mod raster_common;
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
 use omnicloud::Scene;
-use omnicloud::projection::{Camera, Equirect};
+use omnicloud::projection::{Camera, Image, Projection};
 use omnicloud::raster::RasterError;
 use omnicloud::render::{ColorMode, ColorRule, RenderSettings};
 use raster_common::rasterizer;
@@ -20,7 +20,7 @@ fn an_image_over_the_texture_limit_is_refused_with_the_limit() {
     let max = raster.max_image_width();
     let width = (max + 2).next_multiple_of(2);
     let mut s = RenderSettings::new(16, Camera::new(DVec3::ZERO, 0.0));
-    s.image = Equirect::from_width(width);
+    s.image = Image::equirect(width);
     let Err(e) = raster.render(&one_point(), &s, &ProgressBar::hidden()) else {
         panic!("an image wider than the adapter allows must fail")
     };
@@ -36,9 +36,10 @@ fn an_image_over_the_texture_limit_is_refused_with_the_limit() {
 fn settings_the_rasterizer_cannot_draw_are_refused() {
     let Some(raster) = rasterizer() else { return };
     let mut s = RenderSettings::new(64, Camera::new(DVec3::ZERO, 0.0));
-    s.image = Equirect {
+    s.image = Image {
         width: 64,
         height: 40,
+        projection: Projection::EQUIRECT,
     };
     let Err(e) = raster.begin_frame(&s, 1) else {
         panic!("not 2:1")

@@ -41,7 +41,12 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
     } else {
         ColorMode::Elevation
     };
-    let thin = apply(&scene, Subsample::Auto, &settings.camera, settings.image);
+    let thin = apply(
+        &scene,
+        Subsample::Auto,
+        &settings.camera,
+        settings.image.width,
+    );
     let pb = ProgressBar::hidden();
     let full = raytrace::render(&scene, &settings, &pb).unwrap();
     let test = raytrace::render(&thin, &settings, &pb).unwrap();

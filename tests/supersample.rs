@@ -8,7 +8,7 @@ use std::process::Command;
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
 use omnicloud::output::{self, Layout};
-use omnicloud::projection::{Camera, Equirect};
+use omnicloud::projection::{Camera, Image};
 use omnicloud::render::{Background, ColorMode, Look, RenderSettings};
 use omnicloud::{Frame, Rendered, Scene, raytrace};
 
@@ -23,7 +23,7 @@ fn look(n: u32) -> Look {
 fn supersampled(scene: &Scene, settings: &RenderSettings, n: u32) -> Rendered {
     let look = look(n);
     let wide = RenderSettings {
-        image: look.render_image(settings.image.width).unwrap(),
+        image: look.render_image(&settings.image).unwrap(),
         ..*settings
     };
     look.finish(raytrace::render(scene, &wide, &ProgressBar::hidden()).unwrap())
@@ -145,7 +145,7 @@ fn the_sample_supersampled_keeps_its_silhouette_and_both_renderers_agree() {
         return;
     };
     let wide = RenderSettings {
-        image: Equirect::from_width(256),
+        image: Image::equirect(256),
         ..settings
     };
     let (gpu, _) = raster

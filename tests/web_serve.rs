@@ -19,7 +19,7 @@ use indicatif::ProgressBar;
 use omnicloud::Scene;
 use omnicloud::prepare::placement::{EYE_HEIGHT, ground_camera_position};
 use omnicloud::prepare::{PrepareOptions, prepare};
-use omnicloud::projection::{Camera, Equirect, OdsOffset, PoleMerge, PoleMerging, Stereo};
+use omnicloud::projection::{Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::{RasterError, Rasterizer};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
 use omnicloud::web::Running;
@@ -214,7 +214,7 @@ fn a_render_is_the_library_render_at_the_camera_it_reports() {
     let served = image::load_from_memory(&r.body).unwrap().to_rgba8();
     assert_eq!(served.dimensions(), (WIDTH, WIDTH));
     let settings = RenderSettings {
-        image: Equirect::from_width(WIDTH),
+        image: Image::equirect(WIDTH),
         camera: Camera::new(camera - scene.origin, 0.0),
         stereo: Stereo::Ods {
             ipd: 0.07,

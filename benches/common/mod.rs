@@ -12,7 +12,7 @@ pub fn street(width: u32) -> (Scene, RenderSettings) {
     let entry = manifest_of(std::slice::from_ref(&s)).scenes[0].clone();
     let scene = s.to_scene();
     let mut settings = entry.settings(scene.origin).expect("suite entry parses");
-    settings.image = omnicloud::projection::Equirect::from_width(width);
+    settings.image = omnicloud::projection::Image::equirect(width);
     (scene, settings)
 }
 

@@ -20,7 +20,7 @@ use super::report::{BenchReport, ModeResult, ModeStats, ReferenceRun, TimingKind
 pub fn bench_settings(base: &RenderSettings, config: &BenchConfig) -> RenderSettings {
     let mut s = *base;
     if let Some(w) = config.width {
-        s.image = crate::projection::Equirect::from_width(w);
+        s.image = crate::projection::Image::new(s.image.projection, w).unwrap_or(s.image);
     }
     if let Some(stereo) = config.stereo {
         s.stereo = stereo;
@@ -32,6 +32,8 @@ fn stereo_name(s: &Stereo) -> &'static str {
     match s {
         Stereo::Mono => "mono",
         Stereo::Ods { .. } => "ods",
+        Stereo::Parallel { .. } => "parallel",
+        Stereo::Cubemap { .. } => "cubemap",
     }
 }
 

@@ -11,7 +11,7 @@ use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
 use crate::prepare::{
     CameraChoice, LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample,
 };
-use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo, StereoKind};
+use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Projection, Stereo, StereoKind};
 use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
 use super::parse;
@@ -62,8 +62,21 @@ pub struct ViewArgs {
     /// Heading in degrees: 0 looks along +Y, 90 along +X.
     #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
     pub yaw: f64,
-    /// Mono or omnidirectional stereo [default: none; bench --suite: each manifest entry's].
-    #[arg(long, value_enum, ignore_case = true)]
+    /// Camera pitch in degrees: positive looks up (the whole rig turns, viewing circle
+    /// included).
+    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
+    pub pitch: f64,
+    /// Camera roll in degrees: positive turns the rig clockwise as seen from behind it.
+    #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
+    pub roll: f64,
+    /// Projection: equirect[:HFOV,VFOV], hammer, cylindrical[:VFOV], fisheye[:FOV], cubemap or
+    /// map (top-down over the scan, mono). --width is the image width; the height follows.
+    #[arg(long, default_value = "equirect", value_name = "PROJECTION")]
+    pub projection: Projection,
+    /// Mono or stereo: none, ods (omnidirectional stereo), parallel (two parallel cameras) or
+    /// cubemap[:N] (two cube maps of N x N faces from the parallel cameras, resampled)
+    /// [default: none; bench --suite: each manifest entry's].
+    #[arg(long, value_name = "none|ods|parallel|cubemap[:N]")]
     pub stereo: Option<StereoKind>,
     /// Interocular distance in metres (with --stereo ods).
     #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
@@ -113,6 +126,11 @@ impl ViewArgs {
     pub fn stereo_mode(&self) -> Option<Stereo> {
         self.stereo.map(|kind| match kind {
             StereoKind::Mono => Stereo::Mono,
+            StereoKind::Parallel => Stereo::Parallel { ipd: self.ipd },
+            StereoKind::Cubemap(face) => Stereo::Cubemap {
+                ipd: self.ipd,
+                face,
+            },
             StereoKind::Ods => Stereo::Ods {
                 ipd: self.ipd,
                 merging: PoleMerging {
@@ -122,6 +140,11 @@ impl ViewArgs {
                 offset: self.ods_offset,
             },
         })
+    }
+
+    /// The camera at `center` (local frame) with `--yaw`, `--pitch` and `--roll`.
+    pub fn camera_at(&self, center: glam::DVec3) -> crate::projection::Camera {
+        crate::projection::Camera::new(center, self.yaw).with_orientation(self.pitch, self.roll)
     }
 
     /// Images per frame: 2 with `--stereo ods`, else 1.

@@ -6,7 +6,6 @@ use indicatif::ProgressBar;
 
 use crate::bench::{self, BenchConfig};
 use crate::prepare::prepare;
-use crate::projection::Camera;
 use crate::render::{ColorMode, RenderSettings};
 
 use super::args::BenchArgs;
@@ -59,7 +58,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         ));
         let mut base = RenderSettings::new(
             args.width.unwrap_or(DEFAULT_WIDTH),
-            Camera::new(DVec3::ZERO, args.view.yaw),
+            args.view.camera_at(DVec3::ZERO),
         );
         base.color = ColorMode::Auto;
         let name = file

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Result, bail};
+use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
@@ -11,7 +11,7 @@ use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{
     CameraChoice, FilterCounts, PrepareOptions, Prepared, prepare_files, subsample,
 };
-use crate::projection::{Camera, Stereo, StereoKind};
+use crate::projection::{Image, Stereo};
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::tour::Resident;
@@ -24,7 +24,7 @@ use super::progress;
 pub fn run(args: &RenderArgs) -> Result<()> {
     // Check output names before the (long) render, not after it.
     let format = ImageFormat::from_path(&args.output)?;
-    let stereo = args.view.stereo == Some(StereoKind::Ods);
+    let stereo = args.view.eyes() == 2;
     if format == ImageFormat::VrJpeg && !stereo {
         bail!("a VR photo (.vr.jpg) holds two eyes: it needs --stereo ods");
     }
@@ -51,7 +51,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     let look = args.look();
-    let image = look.render_image(args.width)?;
+    let out_image =
+        Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
+    let image = look.render_image(&out_image)?;
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");
@@ -66,7 +68,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let settings = RenderSettings {
         image,
         // Scenes are centred on the camera: it sits at the local origin.
-        camera: Camera::new(DVec3::ZERO, args.view.yaw),
+        camera: args.view.camera_at(DVec3::ZERO),
         stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
         color: args.color,
         shading: args.shading,
@@ -84,8 +86,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "supersample {n}x{n}: rendered {}x{} per eye, reduced to {}x{}",
             image.width,
             image.height,
-            args.width,
-            args.width / 2,
+            out_image.width,
+            out_image.height,
             n = args.look.supersample
         ));
     }
@@ -216,7 +218,7 @@ fn render_resident(
     super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
     say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
     let settings = RenderSettings {
-        camera: Camera::new(prepared.camera_world - origin, args.view.yaw),
+        camera: args.view.camera_at(prepared.camera_world - origin),
         ..*settings
     };
     let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
@@ -266,7 +268,7 @@ fn ray_trace(
     say_filtered(args, &filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {
         let before = scene.len();
-        scene = subsample::apply(&scene, how, &settings.camera, settings.image);
+        scene = subsample::apply(&scene, how, &settings.camera, settings.image.width);
         say(format!(
             "subsample {how:?}: kept {} of {before} points ({:.1}%)",
             scene.len(),

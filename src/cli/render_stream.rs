@@ -32,7 +32,8 @@ impl ChunkSink for RasterSink<'_> {
             // Per chunk: a point hidden by nearer points of its own chunk is hidden in the
             // whole cloud too, so nothing visible is dropped; N counts within each chunk.
             Some(how) => {
-                let kept = subsample::apply(chunk, how, &self.settings.camera, self.settings.image);
+                let kept =
+                    subsample::apply(chunk, how, &self.settings.camera, self.settings.image.width);
                 ChunkSink::draw(&mut self.frame, &kept)
             }
             None => ChunkSink::draw(&mut self.frame, chunk),

@@ -5,11 +5,11 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 
 use crate::memory;
-use crate::projection::{Equirect, Stereo, StereoKind};
+use crate::projection::{Image, Stereo, StereoKind};
 use crate::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
 use crate::tour::{
     self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
@@ -144,7 +144,12 @@ pub fn run(args: &TourArgs) -> Result<()> {
              or exr, or give a colour (--background black)"
         );
     }
-    args.look.look().render_image(args.width)?;
+    if args.view.projection.is_map() {
+        bail!("a tour looks around from each pose: --projection map has no camera to move");
+    }
+    let image =
+        Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
+    args.look.look().render_image(&image)?;
     let shard = match args.shard {
         None => Shard::ALL,
         Some(ShardChoice::Given(s)) => s,
@@ -172,6 +177,8 @@ pub fn run(args: &TourArgs) -> Result<()> {
         },
         heading_window: args.heading_smoothing,
         yaw_offset: args.view.yaw,
+        pitch_offset: args.view.pitch,
+        roll_offset: args.view.roll,
     };
     let started = Instant::now();
     let pb = progress::bar(args.quiet, 0, "loading");
@@ -197,7 +204,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("creating the output folder {}", args.output.display()))?;
     let settings = RenderSettings {
-        image: Equirect::from_width(args.width),
+        image,
         camera: crate::projection::Camera::new(glam::DVec3::ZERO, 0.0),
         stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
         color: args.color,
@@ -300,8 +307,13 @@ fn check_video(args: &TourArgs) -> Result<()> {
             out.display()
         );
     }
-    let ods = args.view.stereo.unwrap_or_default() == StereoKind::Ods;
-    let height = if ods { args.width } else { args.width / 2 };
+    if !args.view.projection.is_full_equirect() {
+        bail!(
+            "--video {} tags its frames as 360° equirectangular: it needs --projection equirect",
+            out.display()
+        );
+    }
+    let height = args.width / 2 * args.view.eyes();
     crate::video::level::level_for(args.width, height, args.fps, 0)
         .with_context(|| format!("--video {} at --width {}", out.display(), args.width))?;
     Ok(())
@@ -364,7 +376,11 @@ fn render_command(args: &TourArgs) -> Vec<String> {
         format!("--width={}", args.width),
     ];
     let stereo = args.view.stereo.unwrap_or_default();
-    a.push(format!("--stereo={}", name(&|| stereo.to_possible_value())));
+    a.push(format!("--stereo={stereo}"));
+    a.push(format!("--projection={}", args.view.projection));
+    if matches!(stereo, StereoKind::Parallel | StereoKind::Cubemap(_)) {
+        a.push(format!("--ipd={}", args.view.ipd));
+    }
     if stereo == StereoKind::Ods {
         let view = &args.view;
         a.push(format!("--ipd={}", view.ipd));

@@ -56,7 +56,9 @@ pub fn every_nth(len: usize, n: u64) -> Vec<bool> {
 
 /// Flags the points the `auto` model keeps for a `image`-sized render from `camera`
 /// (positions are relative to `scene.origin`; `camera.center` in the same local frame).
-pub fn auto_keep(scene: &Scene, camera: &Camera, image: Equirect) -> Vec<bool> {
+pub fn auto_keep(scene: &Scene, camera: &Camera, width: u32) -> Vec<bool> {
+    // Pixel footprints are those of the full panorama this wide, whatever the projection.
+    let image = Equirect::from_width(width);
     let basis = camera.basis();
     let pixel_angle = std::f64::consts::TAU / f64::from(image.width.max(1));
     let mut keep = vec![true; scene.len()];
@@ -92,10 +94,10 @@ pub fn auto_keep(scene: &Scene, camera: &Camera, image: Equirect) -> Vec<bool> {
 
 /// Applies `how` to `scene` for a render from `camera` at `image`; returns the thinned scene
 /// (a copy; `scene` is left as it is).
-pub fn apply(scene: &Scene, how: Subsample, camera: &Camera, image: Equirect) -> Scene {
+pub fn apply(scene: &Scene, how: Subsample, camera: &Camera, width: u32) -> Scene {
     let keep = match how {
         Subsample::Every(n) => every_nth(scene.len(), n),
-        Subsample::Auto => auto_keep(scene, camera, image),
+        Subsample::Auto => auto_keep(scene, camera, width),
     };
     scene.select(&keep)
 }
@@ -128,12 +130,7 @@ mod tests {
         );
         s.attributes.intensity = Some(vec![0, 1, 2, 3, 4]);
         s.radii = Radii::PerPoint(vec![1.0, 2.0, 3.0, 4.0, 5.0]);
-        let t = apply(
-            &s,
-            Subsample::Every(2),
-            &Camera::new(DVec3::ZERO, 0.0),
-            Equirect::from_width(16),
-        );
+        let t = apply(&s, Subsample::Every(2), &Camera::new(DVec3::ZERO, 0.0), 16);
         assert_eq!(t.len(), 3);
         assert_eq!(t.attributes.intensity, Some(vec![0, 2, 4]));
         assert_eq!(t.radii, Radii::PerPoint(vec![1.0, 3.0, 5.0]));
@@ -141,7 +138,6 @@ mod tests {
 
     #[test]
     fn auto_keeps_big_spheres_and_the_nearest_small_ones_per_pixel() {
-        let image = Equirect::from_width(64);
         // Ten tiny spheres straight ahead at 10..19 m (one pixel), one big one at 50 m.
         let mut positions: Vec<Vec3> = (0..10)
             .map(|i| Vec3::new(0.0, 10.0 + i as f32, 0.0))
@@ -151,7 +147,7 @@ mod tests {
         let mut r = vec![0.001; 10];
         r.push(10.0);
         s.radii = Radii::PerPoint(r);
-        let keep = auto_keep(&s, &Camera::new(DVec3::ZERO, 0.0), image);
+        let keep = auto_keep(&s, &Camera::new(DVec3::ZERO, 0.0), 64);
         let kept: Vec<usize> = (0..11).filter(|&i| keep[i]).collect();
         let mut expected: Vec<usize> = (0..AUTO_KEEP_PER_PIXEL).collect();
         expected.push(10);

@@ -6,13 +6,21 @@
 //! `sphere_bounds.wgsl`).
 
 pub mod camera;
+pub mod cubemap;
+pub mod cylindrical;
 pub mod equirect;
+pub mod fisheye;
+pub mod hammer;
+pub mod image;
+pub mod map;
 pub mod ods;
 pub mod pole_merge;
 pub mod sphere_bounds;
 
 pub use camera::Camera;
 pub use equirect::Equirect;
-pub use ods::{Eye, OdsOffset, Stereo, StereoKind, View};
+pub use image::{Image, Projection};
+pub use map::MapFrame;
+pub use ods::{Eye, EyeModel, OdsOffset, Stereo, StereoKind, View};
 pub use pole_merge::{PoleMerge, PoleMerging};
 pub use sphere_bounds::{Bounds, Rect, cap_rect, sphere_bounds};

@@ -4,6 +4,7 @@ use glam::DVec3;
 
 use super::camera::{Basis, Camera};
 use super::equirect::{self, Equirect};
+use super::image::{Image, Projection};
 use super::pole_merge::PoleMerging;
 
 /// Which eye of an ODS pair.
@@ -35,23 +36,69 @@ pub enum OdsOffset {
     Paper,
 }
 
-/// Mono or omnidirectional stereo, without the ODS parameters (`--stereo`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+/// The stereo method, without its parameters (`--stereo`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum StereoKind {
     /// One panorama.
     #[default]
-    #[value(name = "none")]
     Mono,
-    /// Left and right eye, top-bottom (left on top).
+    /// Omnidirectional stereo: left and right eye, top-bottom (left on top).
     Ods,
+    /// Two parallel cameras `ipd` apart (DESIGN §9).
+    Parallel,
+    /// Trapp et al.: two cube maps of `N x N` faces from the parallel cameras, resampled.
+    Cubemap(u32),
 }
 
 impl StereoKind {
+    /// Default cube-map face size of `cubemap` without `:N`.
+    pub const DEFAULT_FACE: u32 = 1024;
+
     /// Images rendered per frame: 1 or 2.
     pub fn eyes(self) -> u32 {
         match self {
             StereoKind::Mono => 1,
-            StereoKind::Ods => 2,
+            _ => 2,
+        }
+    }
+}
+
+/// `none`, `ods`, `parallel` or `cubemap[:N]` (N in 16..=8192, default 1024).
+impl std::str::FromStr for StereoKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim().to_ascii_lowercase();
+        match s.split_once(':') {
+            Some(("cubemap", n)) => {
+                let n: u32 = n
+                    .parse()
+                    .map_err(|_| format!("expected cubemap:N with N the face size, got `{s}`"))?;
+                if (16..=8192).contains(&n) {
+                    Ok(StereoKind::Cubemap(n))
+                } else {
+                    Err(format!("cubemap:N needs 16 <= N <= 8192 pixels, got {n}"))
+                }
+            }
+            None if s == "none" || s == "mono" => Ok(StereoKind::Mono),
+            None if s == "ods" => Ok(StereoKind::Ods),
+            None if s == "parallel" => Ok(StereoKind::Parallel),
+            None if s == "cubemap" => Ok(StereoKind::Cubemap(Self::DEFAULT_FACE)),
+            _ => Err(format!(
+                "unknown stereo `{s}`: use none, ods, parallel or cubemap[:N]"
+            )),
+        }
+    }
+}
+
+/// Prints as `--stereo` parses.
+impl std::fmt::Display for StereoKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StereoKind::Mono => write!(f, "none"),
+            StereoKind::Ods => write!(f, "ods"),
+            StereoKind::Parallel => write!(f, "parallel"),
+            StereoKind::Cubemap(n) => write!(f, "cubemap:{n}"),
         }
     }
 }
@@ -69,6 +116,19 @@ pub enum Stereo {
         merging: PoleMerging,
         /// Inverse used by the rasterizer.
         offset: OdsOffset,
+    },
+    /// Two parallel cameras at `C -+ (ipd/2) R` (DESIGN §9).
+    Parallel {
+        /// Distance between the cameras, metres.
+        ipd: f64,
+    },
+    /// Trapp et al.: each eye's cube map of `face x face` pixels, rendered from its parallel
+    /// camera and resampled per output pixel (DESIGN §9).
+    Cubemap {
+        /// Distance between the cameras, metres.
+        ipd: f64,
+        /// Cube-map face size, pixels.
+        face: u32,
     },
 }
 
@@ -91,11 +151,29 @@ impl Stereo {
         }
     }
 
+    /// The method without its parameters.
+    pub fn kind(&self) -> StereoKind {
+        match *self {
+            Stereo::Mono => StereoKind::Mono,
+            Stereo::Ods { .. } => StereoKind::Ods,
+            Stereo::Parallel { .. } => StereoKind::Parallel,
+            Stereo::Cubemap { face, .. } => StereoKind::Cubemap(face),
+        }
+    }
+
+    /// Interocular distance, metres (0 for mono).
+    pub fn ipd(&self) -> f64 {
+        match *self {
+            Stereo::Mono => 0.0,
+            Stereo::Ods { ipd, .. } | Stereo::Parallel { ipd } | Stereo::Cubemap { ipd, .. } => ipd,
+        }
+    }
+
     /// The views this setting renders, in output order (left eye first).
     pub fn views(&self, camera: Camera) -> Vec<View> {
         match *self {
             Stereo::Mono => vec![View::mono(camera)],
-            Stereo::Ods { .. } => vec![
+            _ => vec![
                 View::eye(camera, self, Eye::Left),
                 View::eye(camera, self, Eye::Right),
             ],
@@ -116,7 +194,19 @@ pub struct View {
     pub merging: PoleMerging,
     /// Inverse used by the rasterizer.
     pub offset: OdsOffset,
+    /// How the eye's rays start: on the viewing circle or at a parallel camera.
+    pub model: EyeModel,
     basis: Basis,
+}
+
+/// Where an eye's rays start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EyeModel {
+    /// On the viewing circle, tangent to it (DESIGN §3); mono when `eye_sign` is 0.
+    #[default]
+    Ods,
+    /// At the parallel camera `C + e (ipd/2) R` for every direction (DESIGN §9).
+    Parallel,
 }
 
 /// Fixed-point iterations before the inverse falls back to bisection.
@@ -133,6 +223,7 @@ impl View {
             half_ipd: 0.0,
             merging: PoleMerging::OFF,
             offset: OdsOffset::Exact,
+            model: EyeModel::Ods,
             basis: camera.basis(),
         }
     }
@@ -151,6 +242,16 @@ impl View {
                 half_ipd: 0.5 * ipd,
                 merging,
                 offset,
+                model: EyeModel::Ods,
+                basis: camera.basis(),
+            },
+            Stereo::Parallel { ipd } | Stereo::Cubemap { ipd, .. } => View {
+                camera,
+                eye_sign: eye.sign(),
+                half_ipd: 0.5 * ipd,
+                merging: PoleMerging::OFF,
+                offset: OdsOffset::Exact,
+                model: EyeModel::Parallel,
                 basis: camera.basis(),
             },
         }
@@ -179,17 +280,39 @@ impl View {
         if self.eye_sign == 0.0 {
             return (self.camera.center, dir);
         }
+        if self.model == EyeModel::Parallel {
+            return (self.parallel_camera(), dir);
+        }
         let (sl, cl) = lam.sin_cos();
         let side = cl * b.right - sl * b.forward;
         let origin = self.camera.center + self.eye_sign * self.circle_radius(phi) * side;
         (origin, dir)
     }
 
-    /// The ray through the centre of pixel `(i, j)` of `image`.
+    /// The ray through the centre of pixel `(i, j)` of the equirectangular `image`.
     #[inline]
     pub fn pixel_ray(&self, image: &Equirect, i: u32, j: u32) -> (DVec3, DVec3) {
         let (lam, phi) = image.pixel_angles(i, j);
         self.ray(lam, phi)
+    }
+
+    /// The ray through the centre of pixel `(i, j)` of `image` in any projection (DESIGN §8),
+    /// or `None` where the projection shows nothing. The map's rays are its own vertical
+    /// ones, whatever the view.
+    #[inline]
+    pub fn image_ray(&self, image: &Image, i: u32, j: u32) -> Option<(DVec3, DVec3)> {
+        if let Projection::Map(Some(frame)) = image.projection {
+            let (u, v) = image.pixel_uv(i, j);
+            return Some(frame.ray(u, v));
+        }
+        let (lam, phi) = image.pixel_angles(i, j)?;
+        Some(self.ray(lam, phi))
+    }
+
+    /// The parallel camera of this eye, `C + e (ipd/2) R` (the centre for mono).
+    #[inline]
+    pub fn parallel_camera(&self) -> DVec3 {
+        self.camera.center + self.eye_sign * self.half_ipd * self.basis.right
     }
 
     /// Longitude and latitude at which world point `p` appears in this view, or `None` when
@@ -199,11 +322,15 @@ impl View {
     /// `phi = atan2(dz, sqrt(rho^2 - r^2))`, `r = r(phi)` solved as a fixed point.
     pub fn project(&self, p: DVec3) -> Option<(f64, f64)> {
         let b = &self.basis;
-        let v = p - self.camera.center;
+        let v = if self.model == EyeModel::Parallel {
+            p - self.parallel_camera()
+        } else {
+            p - self.camera.center
+        };
         let (x, y, z) = (v.dot(b.right), v.dot(b.forward), v.dot(b.up));
         let rho = x.hypot(y);
         let lam_c = x.atan2(y);
-        if self.eye_sign == 0.0 || self.half_ipd == 0.0 {
+        if self.eye_sign == 0.0 || self.half_ipd == 0.0 || self.model == EyeModel::Parallel {
             if rho == 0.0 && z == 0.0 {
                 return None;
             }
@@ -295,6 +422,48 @@ mod tests {
             merging,
             offset: OdsOffset::Exact,
         }
+    }
+
+    #[test]
+    fn parallel_eyes_see_from_fixed_cameras() {
+        let cam = Camera::new(DVec3::new(1.0, 2.0, 3.0), 90.0);
+        let v = View::eye(cam, &Stereo::Parallel { ipd: 0.064 }, Eye::Left);
+        let o = cam.center - 0.032 * cam.basis().right;
+        for &(lam, phi) in &[(0.0, 0.0), (2.0, 0.3), (-2.5, -0.9)] {
+            assert_eq!(v.ray(lam, phi).0, o);
+        }
+        // A point straight ahead is seen turned right by atan(h / d) from the left camera.
+        let p = cam.center + 10.0 * cam.basis().forward;
+        let (lam, phi) = v.project(p).unwrap();
+        assert!((lam - (0.032f64 / 10.0).atan()).abs() < 1e-12 && phi.abs() < 1e-12);
+        // Sideways, both cameras see the point in the same direction.
+        let side = cam.center + 10.0 * cam.basis().right;
+        let r = View::eye(cam, &Stereo::Parallel { ipd: 0.064 }, Eye::Right);
+        assert_eq!(v.project(side).unwrap().0, r.project(side).unwrap().0);
+    }
+
+    #[test]
+    fn stereo_kinds_parse_and_print() {
+        for s in ["none", "ods", "parallel", "cubemap:256"] {
+            let k: StereoKind = s.parse().unwrap();
+            assert_eq!(k.to_string(), s);
+        }
+        assert_eq!(
+            "cubemap".parse::<StereoKind>(),
+            Ok(StereoKind::Cubemap(1024))
+        );
+        assert!(
+            "cubemap:7"
+                .parse::<StereoKind>()
+                .unwrap_err()
+                .contains("16 <= N")
+        );
+        assert!(
+            "hammer"
+                .parse::<StereoKind>()
+                .unwrap_err()
+                .contains("unknown stereo")
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use glam::{DVec2, DVec3};
 
 use super::camera::Basis;
-use super::ods::View;
+use super::ods::{EyeModel, View};
 
 /// Relative slack of the "ball meets the vertical axis" test in [`cap_rect`]: a ball this
 /// close to the axis gets the band to the pole (its longitude half-width `asin(radius/rho)`
@@ -109,6 +109,11 @@ pub fn cap_rect(b: &Basis, s: DVec3, radius: f64) -> Rect {
 /// `lam(X) = lamC(X) - e asin(r/rho(X))`, `tan phi(X) = k tan phiC(X)` with
 /// `k = rho / sqrt(rho^2 - r^2)`; bound each factor over the ball.
 pub fn sphere_bounds(v: &View, s: DVec3, radius: f64) -> Bounds {
+    if v.model == EyeModel::Parallel && v.eye_sign != 0.0 {
+        // One camera for every ray: the mono box seen from it.
+        let camera = v.eye_sign * v.half_ipd * v.basis().right;
+        return sphere_bounds(&View::mono(v.camera), s - camera, radius);
+    }
     let d = s.length();
     let h = if v.eye_sign != 0.0 { v.half_ipd } else { 0.0 };
     if d <= (radius + h) * (1.0 + ENCLOSE_SLACK) + ABSOLUTE_SLACK {

@@ -2,6 +2,7 @@
 //! splatted, the vertex and splat-key buffer sizes and the points per expand batch. Pure
 //! functions of the device limits and the request.
 
+use crate::projection::Stereo;
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::chunk::GpuPoint;
@@ -92,6 +93,21 @@ impl FrameSizing {
         settings: &RenderSettings,
         max_chunk_points: u64,
     ) -> Result<Self, RasterError> {
+        if !settings.image.projection.is_full_equirect() {
+            return Err(RasterError::Settings(format!(
+                "the rasterizer does not draw the {} projection: use --renderer raytrace",
+                settings.image.projection
+            )));
+        }
+        if matches!(
+            settings.stereo,
+            Stereo::Parallel { .. } | Stereo::Cubemap { .. }
+        ) {
+            return Err(RasterError::Settings(format!(
+                "the rasterizer does not draw --stereo {}: use --renderer raytrace",
+                settings.stereo.kind()
+            )));
+        }
         let img = settings.image;
         let key_bytes = img.width as u64 * img.height as u64 * size_of::<u64>() as u64;
         let splat = caps.int64_atomics

@@ -8,9 +8,10 @@ use super::RaytraceError;
 use super::bvh::Tracer;
 use super::sphere;
 use crate::frame::{Frame, Rendered};
-use crate::projection::{Equirect, View};
+use crate::projection::{Image, View};
 use crate::render::RenderSettings;
 use crate::render::color::base_colors;
+use crate::render::cubemap_stereo;
 use crate::render::shading::{Light, Shading, lights, shade};
 use crate::scene::Scene;
 
@@ -42,6 +43,10 @@ pub fn render_with_tracer(
             scene: scene.len(),
         });
     }
+    if let Some(faces) = cubemap_stereo::face_settings(settings) {
+        let strips = render_with_tracer(tracer, scene, &faces, progress)?;
+        return Ok(cubemap_stereo::resample(&strips, settings));
+    }
     let colors = base_colors(scene, settings.color)?;
     let views = settings.views();
     progress.set_length(settings.image.height as u64 * views.len() as u64);
@@ -66,7 +71,7 @@ pub fn render_with_tracer(
     })
 }
 
-fn check_image(image: &Equirect) -> Result<(), RaytraceError> {
+fn check_image(image: &Image) -> Result<(), RaytraceError> {
     if image.width == 0 || image.height == 0 {
         return Err(RaytraceError::EmptyImage {
             width: image.width,
@@ -86,7 +91,7 @@ struct Target<'a> {
 }
 
 impl Target<'_> {
-    fn render_view(&self, view: &View, image: &Equirect, progress: &ProgressBar) -> Frame {
+    fn render_view(&self, view: &View, image: &Image, progress: &ProgressBar) -> Frame {
         let mut frame = Frame::new(image.width, image.height);
         let w = image.width as usize;
         frame
@@ -96,7 +101,9 @@ impl Target<'_> {
             .enumerate()
             .for_each(|(j, (colors, depths))| {
                 for (i, (color, depth)) in colors.iter_mut().zip(depths.iter_mut()).enumerate() {
-                    let (origin, dir) = view.pixel_ray(image, i as u32, j as u32);
+                    let Some((origin, dir)) = view.image_ray(image, i as u32, j as u32) else {
+                        continue;
+                    };
                     if let Some((rgb, t)) = self.shade_ray(origin, dir) {
                         *color = [rgb[0], rgb[1], rgb[2], 255];
                         *depth = t as f32;

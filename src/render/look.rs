@@ -3,7 +3,7 @@
 //! then the background. Each eye of an ODS pair is treated alone.
 
 use crate::frame::Rendered;
-use crate::projection::Equirect;
+use crate::projection::{Equirect, Image};
 
 use super::background::Background;
 use super::edl::Edl;
@@ -47,20 +47,25 @@ impl Look {
     /// The image the renderer must draw for an output `output_width` wide: `supersample`
     /// times wider, within the widest image any renderer accepts (a GPU's own texture limit
     /// can be lower; the rasterizer then refuses with its limit).
-    pub fn render_image(&self, output_width: u32) -> Result<Equirect, LookError> {
+    pub fn render_image(&self, output: &Image) -> Result<Image, LookError> {
         let factor = self.factor();
         if !(1..=MAX_FACTOR).contains(&factor) {
             return Err(LookError::BadFactor(factor));
         }
-        let width = u64::from(output_width) * u64::from(factor);
+        let width = u64::from(output.width) * u64::from(factor);
         if width > u64::from(Equirect::MAX_WIDTH) {
             return Err(LookError::TooWide {
-                width: output_width,
+                width: output.width,
                 factor,
                 max: Equirect::MAX_WIDTH,
             });
         }
-        Ok(Equirect::from_width(width as u32))
+        // Both sides scale by the factor, so each output pixel averages whole samples.
+        Ok(Image {
+            width: width as u32,
+            height: output.height * factor,
+            projection: output.projection,
+        })
     }
 
     /// The factor, 0 read as 1.
@@ -115,10 +120,22 @@ mod tests {
             supersample: 4,
             ..Look::default()
         };
-        assert_eq!(look.render_image(1024).unwrap(), Equirect::from_width(4096));
-        let e = look.render_image(8192).unwrap_err().to_string();
+        assert_eq!(
+            look.render_image(&Image::equirect(1024)).unwrap(),
+            Image::equirect(4096)
+        );
+        let e = look
+            .render_image(&Image::equirect(8192))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("32768") && e.contains("16384"), "{e}");
         assert!(Look::default().is_identity());
-        assert_eq!(Look::default().render_image(64).unwrap().width, 64);
+        assert_eq!(
+            Look::default()
+                .render_image(&Image::equirect(64))
+                .unwrap()
+                .width,
+            64
+        );
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod background;
 pub mod color;
+pub mod cubemap_stereo;
 pub mod edl;
 pub mod look;
 pub mod settings;

@@ -2,7 +2,7 @@
 
 use std::str::FromStr;
 
-use crate::projection::{Camera, Equirect, Stereo, View};
+use crate::projection::{Camera, Image, Stereo, View};
 use crate::value::choice;
 
 use super::color::ColorMode;
@@ -91,8 +91,8 @@ impl FromStr for Proxy {
 /// Everything a renderer needs besides the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RenderSettings {
-    /// Image size per eye.
-    pub image: Equirect,
+    /// Image per eye: projection and size.
+    pub image: Image,
     /// Camera in the scene's local frame.
     pub camera: Camera,
     /// Mono or ODS.
@@ -111,7 +111,7 @@ impl RenderSettings {
     /// Mono, unlit, flat-coloured settings at `width`, camera at `camera`: the accuracy setup.
     pub fn new(width: u32, camera: Camera) -> Self {
         RenderSettings {
-            image: Equirect::from_width(width),
+            image: Image::equirect(width),
             camera,
             stereo: Stereo::Mono,
             color: ColorMode::Flat,

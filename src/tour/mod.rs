@@ -47,6 +47,10 @@ pub struct TourRequest {
     pub heading_window: f64,
     /// Degrees added to every heading (90 looks right of the direction of travel).
     pub yaw_offset: f64,
+    /// Degrees added to every frame's pitch.
+    pub pitch_offset: f64,
+    /// Degrees added to every frame's roll.
+    pub roll_offset: f64,
 }
 
 /// A tour laid out on a loaded scan.
@@ -93,8 +97,7 @@ pub enum TourError {
 ///
 /// # Errors
 /// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
-/// keyframe outside the scan's bounds, a non-zero pitch or roll (the renderers take a heading
-/// only), and the scan's loading errors.
+/// keyframe outside the scan's bounds, and the scan's loading errors.
 pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
     let file = &request.path;
     let bad = |message: String| TourError::BadPath {
@@ -102,15 +105,6 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         message,
     };
     let mut keyframes = path::read_path(file)?;
-    for k in &keyframes {
-        if k.pitch != 0.0 || k.roll != 0.0 {
-            return Err(bad(format!(
-                "{}: pitch {} and roll {} degrees: the renderers take a heading (yaw) only; \
-                 set pitch and roll to 0 or drop the columns",
-                k.at, k.pitch, k.roll
-            )));
-        }
-    }
     // Consecutive repeats (common in exported lines) add nothing to the curve.
     keyframes.dedup_by(|b, a| a.x == b.x && a.y == b.y && a.z == b.z);
     if keyframes.len() < 2 {
@@ -197,6 +191,16 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         },
     };
     let mut poses = poses::sample(&curve, request.sampling, &heading, request.yaw_offset);
+    let pitches: Vec<f64> = keyframes.iter().map(|k| k.pitch).collect();
+    let rolls: Vec<f64> = keyframes.iter().map(|k| k.roll).collect();
+    let tilts = (pitches.len() == resolved.len()).then_some((&pitches[..], &rolls[..]));
+    poses::tilt(
+        &mut poses,
+        &curve,
+        tilts,
+        request.pitch_offset,
+        request.roll_offset,
+    );
     if follow_ground {
         let local = |s: f64| curve.position(s) - origin;
         let profile = ground::GroundProfile::new(&ground, curve.length(), local).map_err(|s| {

@@ -44,9 +44,11 @@ pub struct Pose {
     pub position: [f64; 3],
     /// Heading in degrees, in (-180, 180] (DESIGN §1).
     pub yaw: f64,
-    /// Pitch in degrees (recorded; the renderers take 0 only).
+    /// Pitch in degrees: positive looks up (DESIGN §8).
+    #[serde(default)]
     pub pitch: f64,
-    /// Roll in degrees (recorded; the renderers take 0 only).
+    /// Roll in degrees: positive turns the rig clockwise as seen from behind it.
+    #[serde(default)]
     pub roll: f64,
     /// Arc length along the curve from its start, metres.
     pub arc_length: f64,
@@ -96,6 +98,31 @@ pub fn sample(
             }
         })
         .collect()
+}
+
+/// Sets each pose's pitch and roll: the keyframes' values (one per keyframe of `spline`,
+/// interpolated like keyframe headings) plus `pitch_offset` and `roll_offset` degrees.
+pub fn tilt(
+    poses: &mut [Pose],
+    spline: &Spline,
+    keyframes: Option<(&[f64], &[f64])>,
+    pitch_offset: f64,
+    roll_offset: f64,
+) {
+    for pose in poses {
+        let (pitch, roll) = match keyframes {
+            Some((pitches, rolls)) => {
+                let (segment, u) = spline.locate(pose.arc_length);
+                (
+                    keyframe_yaw(pitches, segment, u),
+                    keyframe_yaw(rolls, segment, u),
+                )
+            }
+            None => (0.0, 0.0),
+        };
+        pose.pitch = pitch + pitch_offset;
+        pose.roll = wrap_degrees(roll + roll_offset);
+    }
 }
 
 /// `yaw = atan2(dx, dy)` (degrees) of a horizontal direction; `None` when it has no
@@ -198,6 +225,30 @@ mod tests {
             .fold((0.0f64, 0.0f64), |(a, b), &d| (a.min(d), b.max(d)));
         eprintln!("heading steps per metre: {lo:.2} .. {hi:.2}");
         assert!(lo > -20.0 && hi < 3.0, "{steps:?}");
+    }
+
+    #[test]
+    fn keyframe_pitch_and_roll_interpolate_between_keyframes() {
+        let spline = Spline::new(&[DVec3::ZERO, DVec3::new(0.0, 10.0, 0.0)]).unwrap();
+        let mut poses = sample(
+            &spline,
+            Sampling::Frames(3),
+            &Heading::Tangent { window: 0.0 },
+            0.0,
+        );
+        tilt(
+            &mut poses,
+            &spline,
+            Some((&[0.0, 20.0], &[-10.0, 10.0])),
+            5.0,
+            0.0,
+        );
+        assert!((poses[0].pitch - 5.0).abs() < 1e-9);
+        assert!((poses[1].pitch - 15.0).abs() < 1e-9, "{}", poses[1].pitch);
+        assert!((poses[2].pitch - 25.0).abs() < 1e-9);
+        assert!(poses[1].roll.abs() < 1e-9 && (poses[2].roll - 10.0).abs() < 1e-9);
+        tilt(&mut poses, &spline, None, 0.0, -30.0);
+        assert!(poses.iter().all(|p| p.pitch == 0.0 && p.roll == -30.0));
     }
 
     #[test]

@@ -78,7 +78,7 @@ impl RunOptions {
         let pose = &tour.poses[index];
         let local = DVec3::from_array(pose.position) - tour.origin;
         RenderSettings {
-            camera: Camera::new(local, pose.yaw),
+            camera: Camera::new(local, pose.yaw).with_orientation(pose.pitch, pose.roll),
             ..self.settings
         }
     }
@@ -137,6 +137,8 @@ pub fn manifest(request: &TourRequest, tour: &Tour, options: &RunOptions) -> Tou
                 format!("--origin={},{},{}", o.x, o.y, o.z),
                 format!("--camera={x},{y},{z}"),
                 format!("--yaw={}", pose.yaw),
+                format!("--pitch={}", pose.pitch),
+                format!("--roll={}", pose.roll),
                 "-o".to_string(),
                 options.frame_path(index).display().to_string(),
             ]);
@@ -190,7 +192,7 @@ pub fn render_frames(
     let mut report = RunReport::default();
     progress.set_length(todo.len() as u64);
     let layout = Layout::TopBottom;
-    let image = options.look.render_image(options.settings.image.width)?;
+    let image = options.look.render_image(&options.settings.image)?;
     for &index in todo {
         let started = Instant::now();
         let settings = options.frame_settings(tour, index);

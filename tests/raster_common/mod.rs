@@ -6,7 +6,7 @@ pub mod gpu;
 
 use glam::{DVec3, Vec3};
 use omnicloud::compare::{RegionStats, Regions, compare_eyes};
-use omnicloud::projection::{Equirect, View};
+use omnicloud::projection::{Image, View};
 use omnicloud::render::RenderSettings;
 use omnicloud::rng::SplitMix64;
 use omnicloud::{Attributes, Frame, Radii, Scene};
@@ -45,7 +45,7 @@ pub fn intersect(o: DVec3, d: DVec3, c: DVec3, r: f64) -> Option<f64> {
     }
 }
 
-/// Brute-force reference: every pixel's `View::pixel_ray` against every sphere.
+/// Brute-force reference: every pixel's `View::image_ray` against every sphere.
 pub fn reference(scene: &Scene, settings: &RenderSettings, view: &View) -> Vec<Option<RefPixel>> {
     let img = settings.image;
     let spheres: Vec<(DVec3, f64)> = (0..scene.len())
@@ -56,7 +56,7 @@ pub fn reference(scene: &Scene, settings: &RenderSettings, view: &View) -> Vec<O
         .flat_map_iter(|j| {
             let spheres = &spheres;
             (0..img.width).map(move |i| {
-                let (o, d) = view.pixel_ray(&img, i, j);
+                let (o, d) = view.image_ray(&img, i, j)?;
                 let mut best: Option<RefPixel> = None;
                 for (k, &(c, r)) in spheres.iter().enumerate() {
                     if let Some(t) = intersect(o, d, c, r) {
@@ -85,7 +85,7 @@ pub fn reference(scene: &Scene, settings: &RenderSettings, view: &View) -> Vec<O
 }
 
 /// The reference as a frame: each pixel's nearest sphere, its colour and distance.
-pub fn reference_frame(reference: &[Option<RefPixel>], colors: &[[u8; 3]], img: Equirect) -> Frame {
+pub fn reference_frame(reference: &[Option<RefPixel>], colors: &[[u8; 3]], img: Image) -> Frame {
     let mut f = Frame::new(img.width, img.height);
     for (k, r) in reference.iter().enumerate() {
         if let Some(r) = r {

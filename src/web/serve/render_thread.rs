@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use glam::{DVec2, DVec3};
 use indicatif::ProgressBar;
 
-use crate::projection::{Camera, Equirect, OdsOffset, Stereo};
+use crate::projection::{Camera, Image, OdsOffset, Stereo};
 use crate::raster::{Rasterizer, UploadedScene};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
@@ -246,7 +246,7 @@ impl Renderer {
 /// shading; proxy and imposter as `omnicloud render` defaults them.
 pub fn live_settings(scan: &LiveScan, camera: DVec3, request: &RenderRequest) -> RenderSettings {
     RenderSettings {
-        image: Equirect::from_width(scan.options.width),
+        image: Image::equirect(scan.options.width),
         camera: Camera::new(camera, 0.0),
         stereo: Stereo::Ods {
             ipd: request.ipd,
