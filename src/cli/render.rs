@@ -51,9 +51,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
     }
     let look = args.look();
-    let out_image =
-        Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
-    let image = look.render_image(&out_image)?;
+    let map = args.view.projection.is_map();
+    if map && stereo {
+        bail!("--projection map is a top-down view: it has one eye (drop --stereo)");
+    }
+    if map && args.subsample.is_some() {
+        bail!("--subsample thins by panorama pixels: it does not apply to --projection map");
+    }
+    // The map's size follows from the scan's extent, known once it is loaded.
+    let image = if map {
+        Image::equirect(args.width)
+    } else {
+        let out =
+            Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
+        look.render_image(&out)?
+    };
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");
@@ -77,21 +89,24 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     };
     let render_start = Instant::now();
     let rendered = match (args.origin, args.renderer) {
+        _ if map => render_map(args, &settings, &look, &say)?,
         (Some(origin), _) => render_resident(args, origin, &settings, &say)?,
         (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
         (None, RendererKind::Raster) => super::render_stream::rasterize(args, &settings, &say)?,
     };
+    let drawn = (rendered.frames()[0].width, rendered.frames()[0].height);
+    let rendered = look.finish(rendered);
     if args.look.supersample > 1 {
+        let out = rendered.frames()[0];
         say(format!(
             "supersample {n}x{n}: rendered {}x{} per eye, reduced to {}x{}",
-            image.width,
-            image.height,
-            out_image.width,
-            out_image.height,
+            drawn.0,
+            drawn.1,
+            out.width,
+            out.height,
             n = args.look.supersample
         ));
     }
-    let rendered = look.finish(rendered);
     say(format!("rendered in {:.2?}", render_start.elapsed()));
 
     let layout = if args.separate_eyes {
@@ -233,6 +248,48 @@ fn render_resident(
         origin.z,
         resident.describe()
     ));
+    Ok(resident.render(&settings, &ProgressBar::hidden())?)
+}
+
+/// `--projection map`: the scan loaded whole, the map laid over its extent (around the
+/// camera's origin, whose orientation it ignores), drawn by either renderer.
+fn render_map(
+    args: &RenderArgs,
+    settings: &RenderSettings,
+    look: &crate::render::Look,
+    say: &impl Fn(String),
+) -> Result<Rendered> {
+    crate::cli::render_guard::check_memory(args)?;
+    let mut options = args.prepare_options();
+    options.origin = args.origin.or(options.origin);
+    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
+    if let Some(lod) = &prepared.lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+    }
+    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
+    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    let map = crate::prepare::map_extent::map_image(&prepared.scene, args.width)
+        .map_err(|e| anyhow!("{}: {e}", args.inputs_name()))?;
+    if let crate::projection::Projection::Map(Some(f)) = map.projection {
+        let o = prepared.scene.origin;
+        say(format!(
+            "{}: map over x {:.2}..{:.2}, y {:.2}..{:.2} ({:.1} x {:.1} m), {}x{} px",
+            args.inputs_name(),
+            f.x0 + o.x,
+            f.x1 + o.x,
+            f.y0 + o.y,
+            f.y1 + o.y,
+            f.x1 - f.x0,
+            f.y1 - f.y0,
+            map.width,
+            map.height
+        ));
+    }
+    let settings = RenderSettings {
+        image: look.render_image(&map)?,
+        ..*settings
+    };
+    let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
     Ok(resident.render(&settings, &ProgressBar::hidden())?)
 }
 

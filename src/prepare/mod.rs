@@ -4,6 +4,7 @@
 
 pub mod filter;
 pub mod lod;
+pub mod map_extent;
 pub mod placement;
 pub mod radius;
 pub mod subsample;
