@@ -6,6 +6,8 @@
 //! `sphere_bounds.wgsl`).
 
 pub mod camera;
+pub mod depth_map;
+pub mod disparity;
 pub mod equirect;
 pub mod ods;
 pub mod pole_merge;
