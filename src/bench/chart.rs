@@ -199,7 +199,7 @@ pub struct BandSeries {
     pub values: Vec<(f64, f64)>,
 }
 
-fn palette(k: usize) -> RGBColor {
+pub(super) fn palette(k: usize) -> RGBColor {
     const COLORS: [RGBColor; 10] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
@@ -265,7 +265,7 @@ fn draw_bands<DB: DrawingBackend>(
 }
 
 /// Renders `draw` into a PNG at `png` and an SVG at `svg`.
-fn write_both<T>(
+pub(super) fn write_both<T>(
     png: &Path,
     svg: &Path,
     draw_png: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<T, String>,

@@ -8,6 +8,7 @@
 pub mod accuracy;
 pub mod chart;
 pub mod config;
+pub mod disparity_chart;
 pub mod mode;
 pub mod outputs;
 pub mod report;

@@ -19,6 +19,7 @@
 //! renders as [`crate::Frame`]s; [`compare_eyes`] sums the eyes of a render into one set of
 //! statistics (what `bench` reports).
 
+pub mod disparity_image;
 mod error;
 pub mod eyes;
 mod files;

@@ -57,6 +57,14 @@ pub enum OutputError {
         /// The file concerned.
         path: PathBuf,
     },
+    /// An EXR file is not a disparity image (a channel missing, another unit).
+    #[error("{path}: not a disparity EXR: {what}")]
+    NotDisparity {
+        /// The file concerned.
+        path: PathBuf,
+        /// What is wrong.
+        what: String,
+    },
     /// A stereo-only output (anaglyph, VR photo) was asked for a mono render.
     #[error("{path}: {what} needs a stereo (ODS) render, got a mono one")]
     NotStereo {

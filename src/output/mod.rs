@@ -14,6 +14,7 @@
 
 pub mod anaglyph;
 pub mod atomic;
+pub mod disparity_exr;
 mod error;
 pub mod exif;
 pub mod exr;

@@ -1,5 +1,6 @@
-//! Camera model, equirectangular mapping, pole merging, the ODS ray (DESIGN §1–4) and the
-//! bounding box of a sphere's image (`docs/SPHERE_BOUNDS.md`).
+//! Camera model and orientation, the projections, pole merging, the ODS ray and the other
+//! stereo models, disparity and the depth budget (DESIGN §1–4, §8–9), and the bounding box
+//! of a sphere's image (`docs/SPHERE_BOUNDS.md`).
 //!
 //! Everything here is f64 and exact: the reference that the WGSL in `shaders/` mirrors
 //! file for file (`camera.wgsl`, `equirect.wgsl`, `pole_merge.wgsl`, `ods.wgsl`,
@@ -8,6 +9,8 @@
 pub mod camera;
 pub mod cubemap;
 pub mod cylindrical;
+pub mod depth_map;
+pub mod disparity;
 pub mod equirect;
 pub mod fisheye;
 pub mod hammer;
