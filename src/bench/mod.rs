@@ -13,6 +13,7 @@ pub mod mode;
 pub mod outputs;
 pub mod report;
 pub mod runner;
+pub mod stereo_methods;
 pub mod suite_run;
 
 use std::path::PathBuf;

@@ -210,6 +210,18 @@ pub struct RenderArgs {
     /// Also write a red/cyan anaglyph preview (needs --stereo ods).
     #[arg(long, value_name = "OUT.png")]
     pub anaglyph: Option<PathBuf>,
+    /// Also write the left eye's angular disparity (arcminutes; channels disparity.h and
+    /// disparity.v, NaN where none) and print the comfort summary (needs a stereo mode).
+    #[arg(long, value_name = "OUT.exr")]
+    pub disparity: Option<PathBuf>,
+    /// Print the comfort summary: share of pixels perceived nearer than --comfort-near, the
+    /// largest disparity, and neighbours whose disparity gradient exceeds 1 (needs a stereo
+    /// mode).
+    #[arg(long)]
+    pub comfort: bool,
+    /// Perceived distance, metres, the comfort summary counts pixels nearer than.
+    #[arg(long, default_value = "0.5", value_name = "M", value_parser = parse::distance)]
+    pub comfort_near: f64,
     /// Write one file per eye (NAME_left.EXT, NAME_right.EXT) instead of top-bottom.
     #[arg(long)]
     pub separate_eyes: bool,
@@ -401,6 +413,19 @@ pub struct BenchArgs {
     /// Output folder for bench.json, bench.csv, bench.md and the charts.
     #[arg(long, default_value = "bench_out")]
     pub out: PathBuf,
+    /// Compare stereo methods instead of timing rasterizer modes: exact ODS, the paper's
+    /// per-vertex offset, parallel cameras and cube maps, ray traced; charts their angular
+    /// disparity error against exact ODS by longitude and latitude.
+    #[arg(long, conflicts_with_all = ["suite", "modes"])]
+    pub stereo_methods: bool,
+    /// Cube-map face sizes for --stereo-methods.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "256,512,1024",
+        value_name = "N,N,..."
+    )]
+    pub cubemap_faces: Vec<u32>,
     /// No progress bar or summary.
     #[arg(short, long)]
     pub quiet: bool,

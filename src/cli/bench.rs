@@ -65,6 +65,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scene".into());
+        if args.stereo_methods {
+            return stereo_methods(args, &prepared.scene, &base, &pb);
+        }
         let report = bench::run_bench(&name, &prepared.scene, &base, &config, &pb)?;
         pb.finish_and_clear();
         let files = bench::write_outputs(&report, &args.out)?;
@@ -83,6 +86,41 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         {
             println!("{}", std::fs::read_to_string(md)?);
         }
+        for p in &written {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+/// `bench --stereo-methods`: every stereo method ray traced at `base`, compared by disparity.
+fn stereo_methods(
+    args: &BenchArgs,
+    scene: &crate::scene::Scene,
+    base: &RenderSettings,
+    pb: &ProgressBar,
+) -> Result<()> {
+    if let Some(&n) = args
+        .cubemap_faces
+        .iter()
+        .find(|&&n| !(16..=8192).contains(&n))
+    {
+        anyhow::bail!("--cubemap-faces: a face is 16..=8192 pixels, got {n}");
+    }
+    let options = bench::stereo_methods::StereoMethodsOptions {
+        ipd: args.view.ipd,
+        merging: crate::projection::PoleMerging {
+            north: args.view.pole_merge_north.unwrap_or(args.view.pole_merge),
+            south: args.view.pole_merge_south.unwrap_or(args.view.pole_merge),
+        },
+        faces: args.cubemap_faces.clone(),
+    };
+    let tracer = crate::raytrace::Tracer::new(scene)?;
+    let report = bench::stereo_methods::run(&tracer, scene, base, &options, pb)?;
+    pb.finish_and_clear();
+    let written = bench::stereo_methods::write_outputs(&report, &args.out)?;
+    if !args.quiet {
+        println!("{}", bench::stereo_methods::markdown(&report));
         for p in &written {
             eprintln!("wrote {}", p.display());
         }

@@ -7,6 +7,7 @@ use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
+use crate::compare::disparity_image::{comfort, left_eye_disparity};
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{
     CameraChoice, FilterCounts, PrepareOptions, Prepared, prepare_files, subsample,
@@ -58,13 +59,23 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if map && args.subsample.is_some() {
         bail!("--subsample thins by panorama pixels: it does not apply to --projection map");
     }
+    if (args.disparity.is_some() || args.comfort) && !stereo {
+        bail!(
+            "--disparity and --comfort measure two eyes: add --stereo ods (or parallel, cubemap)"
+        );
+    }
+    if let Some(d) = &args.disparity {
+        ImageFormat::require(d, ImageFormat::Exr)?;
+    }
     // The map's size follows from the scan's extent, known once it is loaded.
-    let image = if map {
-        Image::equirect(args.width)
+    let out_image = if map {
+        None
     } else {
-        let out =
-            Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
-        look.render_image(&out)?
+        Some(Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?)
+    };
+    let image = match &out_image {
+        Some(out) => look.render_image(out)?,
+        None => Image::equirect(args.width),
     };
     let say = |msg: String| {
         if !args.quiet {
@@ -122,6 +133,17 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut written = output::write_image_with(&args.output, &rendered, &options)?;
     if let Some(d) = &args.depth {
         written.extend(output::write_depth(d, &rendered, layout)?);
+    }
+    if let (Some(out), true) = (out_image, args.disparity.is_some() || args.comfort) {
+        let disparity = left_eye_disparity(&rendered, &settings, &out, None);
+        let half_ipd = 0.5 * settings.stereo.ipd();
+        let wraps = out.projection.is_full_equirect();
+        let comfort = comfort(&disparity, half_ipd, args.comfort_near, wraps);
+        eprintln!("{comfort}");
+        if let Some(path) = &args.disparity {
+            output::disparity_exr::write_disparity_exr(path, &disparity)?;
+            written.push(path.clone());
+        }
     }
     if let Some(a) = &args.anaglyph {
         written.push(output::write_anaglyph(

@@ -10,10 +10,13 @@ use std::fmt;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::projection::View;
+use crate::frame::Rendered;
 use crate::projection::disparity::{
     ARCMIN_PER_RADIAN, angular_disparity, disparity_gradient, perceived_distance,
 };
+use crate::projection::{Eye, Image, Stereo, View};
+use crate::render::RenderSettings;
+use crate::render::hit_points::hit_point;
 
 /// Per-pixel angular disparity of the left eye's image, arcminutes, row-major.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,6 +78,34 @@ pub fn disparity_image(
         dh,
         dv,
     }
+}
+
+/// The disparity image of `rendered` (drawn under `settings`, its output at `image`): the
+/// surface each left-eye pixel sees, placed in both eyes of `model` (default: the settings'
+/// own stereo). Cube-map eyes see from their parallel cameras, so their model is `parallel`.
+pub fn left_eye_disparity(
+    rendered: &Rendered,
+    settings: &RenderSettings,
+    image: &Image,
+    model: Option<Stereo>,
+) -> DisparityImage {
+    let parallel_of = |s: Stereo| match s {
+        Stereo::Cubemap { ipd, .. } => Stereo::Parallel { ipd },
+        s => s,
+    };
+    let frame = rendered.frames()[0];
+    let camera = settings.camera;
+    let drawn = View::eye(camera, &parallel_of(settings.stereo), Eye::Left);
+    let model = parallel_of(model.unwrap_or(settings.stereo));
+    let left = View::eye(camera, &model, Eye::Left);
+    let right = View::eye(camera, &model, Eye::Right);
+    disparity_image(
+        frame.width,
+        frame.height,
+        |i, j| hit_point(frame, &drawn, image, i, j),
+        &left,
+        &right,
+    )
 }
 
 /// How comfortable a disparity image is to view.

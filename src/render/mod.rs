@@ -5,6 +5,7 @@ pub mod background;
 pub mod color;
 pub mod cubemap_stereo;
 pub mod edl;
+pub mod hit_points;
 pub mod look;
 pub mod settings;
 pub mod shading;
