@@ -1,9 +1,10 @@
 //! Camera model, equirectangular mapping, pole merging, the ODS ray (DESIGN §1–4) and the
-//! bounding box of a sphere's image (`docs/SPHERE_BOUNDS.md`).
+//! bounding box of a sphere's image (`docs/SPHERE_BOUNDS.md`), and the other projections of
+//! DESIGN §8 with the pixel rectangles of a sphere's image in each (`image_bounds`).
 //!
 //! Everything here is f64 and exact: the reference that the WGSL in `shaders/` mirrors
 //! file for file (`camera.wgsl`, `equirect.wgsl`, `pole_merge.wgsl`, `ods.wgsl`,
-//! `sphere_bounds.wgsl`).
+//! `sphere_bounds.wgsl`, `projection.wgsl`, `image_bounds.wgsl`).
 
 pub mod camera;
 pub mod cubemap;
@@ -12,6 +13,7 @@ pub mod equirect;
 pub mod fisheye;
 pub mod hammer;
 pub mod image;
+pub mod image_bounds;
 pub mod map;
 pub mod ods;
 pub mod pole_merge;
@@ -20,6 +22,7 @@ pub mod sphere_bounds;
 pub use camera::Camera;
 pub use equirect::Equirect;
 pub use image::{Image, Projection};
+pub use image_bounds::{Margins, PixelRect, image_bounds};
 pub use map::MapFrame;
 pub use ods::{Eye, EyeModel, OdsOffset, Stereo, StereoKind, View};
 pub use pole_merge::{PoleMerge, PoleMerging};
