@@ -2,8 +2,9 @@
 //! scene and the real sample in `equirect:200,100`, `hammer`, `cylindrical:100`,
 //! `fisheye:200`, `cubemap` (mono and ODS with pole merging, level and pitched/rolled) and
 //! `map`, compared per eye through `compare`: coverage mismatch at most
-//! [`COVERAGE_MAX_FRACTION`] of the pixels, depth relative error p99 at most
-//! [`DEPTH_P99_MAX`], unlit colour identical where both hit. A sphere in a known direction
+//! [`COVERAGE_MAX_FRACTION`] of the pixels (lavapipe: none), depth relative error p99 at
+//! most [`DEPTH_P99_MAX`] ([`MAP_DEPTH_P99_MAX`] for the map), unlit colour identical where
+//! both hit. A sphere in a known direction
 //! lands where the projection's formula puts it in both renderers; Hammer draws nothing
 //! outside its ellipse; a partial equirect is the crop of the full panorama.
 
@@ -15,7 +16,7 @@ use omnicloud::compare::{RegionStats, compare_eyes};
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{
-    Camera, Image, OdsOffset, PoleMerge, PoleMerging, Projection, Stereo,
+    Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo,
 };
 use omnicloud::raster::Rasterizer;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
@@ -23,8 +24,11 @@ use omnicloud::{Attributes, Frame, Radii, Rendered, Scene, raytrace};
 
 /// Coverage mismatches allowed, as a fraction of each eye's pixels (0.01 %).
 const COVERAGE_MAX_FRACTION: f64 = 1e-4;
-/// Depth relative error p99 allowed.
+/// Depth relative error p99 allowed (lavapipe: up to 8.4e-7).
 const DEPTH_P99_MAX: f64 = 1e-6;
+/// The same for the map, whose ray origins are f32 coordinates up to a few hundred metres
+/// from the camera (a 1.5e-5 m ulp at 250 m; lavapipe: up to 2.2e-6 on the sample).
+const MAP_DEPTH_P99_MAX: f64 = 3e-6;
 
 /// The projections other than the full panorama, mono and ODS (the map is mono only).
 const PROJECTIONS: [&str; 5] = [
@@ -103,7 +107,12 @@ fn agree(raster: &Rasterizer, scene: &Scene, s: &RenderSettings, label: &str) ->
             all.mismatch,
             all.pixels
         );
-        assert!(p99 <= DEPTH_P99_MAX, "{label} eye {eye}: depth p99 {p99}");
+        let max = if s.image.projection.is_map() {
+            MAP_DEPTH_P99_MAX
+        } else {
+            DEPTH_P99_MAX
+        };
+        assert!(p99 <= max, "{label} eye {eye}: depth p99 {p99}");
         assert_eq!(all.color_differs, 0, "{label} eye {eye}: colour");
         worst_cov = worst_cov.max(fraction);
         worst_depth = worst_depth.max(p99);
@@ -226,7 +235,7 @@ fn a_sphere_in_a_known_direction_lands_where_the_formula_puts_it() {
                 if camera.pitch_deg == 90.0 {
                     assert!((world - DVec3::Z).length() < 1e-12);
                 }
-                let scene = one_sphere(10.0 * world, 0.08);
+                let scene = one_sphere(10.0 * world, 0.3);
                 let s = settings(img, camera, Stereo::Mono);
                 let want = (u * f64::from(img.width), v * f64::from(img.height));
                 let (test, _) = raster

@@ -413,7 +413,7 @@ fn near_a_branch_test(view: &View, s: DVec3, r: f64) -> bool {
 /// `image_ray` (`projection.wgsl`) and `image_bounds` (`image_bounds.wgsl`) against
 /// `View::image_ray` and `projection::image_bounds` (same margins) in every projection, mono,
 /// ODS and pitched and rolled: ray origins within 1e-6 m (1e-6 relative for the map's),
-/// directions within 1e-6; rectangle corners within [`RECT_TOL_PX`]. Pixels within f32 noise
+/// directions within [`IMAGE_DIR_TOL`]; rectangle corners within [`RECT_TOL_PX`]. Pixels within f32 noise
 /// of the Hammer ellipse or the fisheye circle, spheres within f32 noise of a branch test,
 /// and rectangles that just touch an edge, may legitimately differ; they are counted.
 #[test]
@@ -482,7 +482,7 @@ fn wgsl_image_ray_and_image_bounds_match_rust() {
                         let ed = (d - f64x3(gd)).length();
                         worst_o = worst_o.max(eo);
                         worst_d = worst_d.max(ed);
-                        assert!(eo <= 1e-6 && ed <= 1e-6, "{label} pixel ({i}, {j})");
+                        assert!(eo <= 1e-6 && ed <= IMAGE_DIR_TOL, "{label} pixel ({i}, {j}): origin {eo:.2e} dir {ed:.2e}");
                         rays += 1;
                     }
                     (None, None) => {}
@@ -525,13 +525,17 @@ fn wgsl_image_ray_and_image_bounds_match_rust() {
          flipped at an edge; rects: {rects} compared, worst corner {worst_rect:.2e} px, \
          {skipped} spheres skipped, {counts_differ} with a different count"
     );
-    assert!(counts_differ <= 20, "{counts_differ} spheres got a different count");
+    assert!(counts_differ <= 5, "{counts_differ} spheres got a different count");
     assert!(flipped <= 3, "{flipped} pixels flipped");
-    assert!(skipped < n * 21 / 100, "{skipped} skipped");
+    assert!(skipped <= 50, "{skipped} skipped");
 }
 
-/// Rectangle corners, pixels (at 510 px wide).
-const RECT_TOL_PX: f64 = 0.05;
+/// `image_ray` directions: the projections' f32 `atan2` (Hammer, fisheye, cube faces) on top
+/// of the ray's own rounding (measured 6.3e-6 on lavapipe, 1/2000 px at 510 px wide).
+const IMAGE_DIR_TOL: f64 = 1e-5;
+
+/// Rectangle corners, pixels at 510 px wide (measured 3.1e-3 on lavapipe).
+const RECT_TOL_PX: f64 = 0.01;
 
 /// Whether the cone (rig axis, half-angle) sits within f32 noise of a fisheye or cube-face
 /// branch test of `image_bounds`.
