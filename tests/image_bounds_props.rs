@@ -47,10 +47,16 @@ fn view() -> impl Strategy<Value = View> {
         (-90.0..90.0f64, -180.0..180.0f64),
         Just((90.0, 0.0)),
     ];
-    (eye, profile(), profile(), 0.03..0.3f64, -360.0..360.0f64, tilt).prop_map(
-        |(eye, north, south, ipd, yaw, (pitch, roll))| {
-            let camera =
-                Camera::new(DVec3::new(3.0, -2.0, 1.5), yaw).with_orientation(pitch, roll);
+    (
+        eye,
+        profile(),
+        profile(),
+        0.03..0.3f64,
+        -360.0..360.0f64,
+        tilt,
+    )
+        .prop_map(|(eye, north, south, ipd, yaw, (pitch, roll))| {
+            let camera = Camera::new(DVec3::new(3.0, -2.0, 1.5), yaw).with_orientation(pitch, roll);
             match eye {
                 None => View::mono(camera),
                 Some(eye) => {
@@ -62,8 +68,7 @@ fn view() -> impl Strategy<Value = View> {
                     View::eye(camera, &stereo, eye)
                 }
             }
-        },
-    )
+        })
 }
 
 /// A sphere relative to C in world axes: `lam_deg`/`phi_deg` its direction (longitude from

@@ -15,9 +15,7 @@ use indicatif::ProgressBar;
 use omnicloud::compare::{RegionStats, compare_eyes};
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::prepare::{placement, radius};
-use omnicloud::projection::{
-    Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo,
-};
+use omnicloud::projection::{Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::Rasterizer;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
 use omnicloud::{Attributes, Frame, Radii, Rendered, Scene, raytrace};
@@ -87,7 +85,11 @@ fn agree(raster: &Rasterizer, scene: &Scene, s: &RenderSettings, label: &str) ->
         .unwrap_or_else(|e| panic!("{label}: raster render: {e}"));
     let reference = raytrace::render(scene, s, &ProgressBar::hidden()).expect("ray trace");
     let (mut worst_cov, mut worst_depth) = (0f64, 0f64);
-    for (eye, (r, t)) in frames(&reference).iter().zip(frames(&test).iter()).enumerate() {
+    for (eye, (r, t)) in frames(&reference)
+        .iter()
+        .zip(frames(&test).iter())
+        .enumerate()
+    {
         let regions = compare_eyes(&[(r, t)]).expect("same size");
         let all: &RegionStats = &regions.all;
         let fraction = all.mismatch as f64 / all.pixels as f64;

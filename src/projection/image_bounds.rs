@@ -468,7 +468,10 @@ mod tests {
         assert_eq!(face_range(0.0, 1.0, 0.05), None);
         // A cone 0.9 rad about C from A, 0.2 rad wide, reaches the face from 0.7 rad on.
         let (lo, hi) = face_range(0.9f64.cos(), 0.9f64.sin(), 0.2f64.sin()).unwrap();
-        assert!((lo - 0.7f64.tan()).abs() < 1e-12 && (hi - 1.0).abs() < 1e-15, "{lo} {hi}");
+        assert!(
+            (lo - 0.7f64.tan()).abs() < 1e-12 && (hi - 1.0).abs() < 1e-15,
+            "{lo} {hi}"
+        );
     }
 
     #[test]

@@ -4,8 +4,8 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::projection::image_bounds::{MAX_RECTS, Margins};
 use crate::projection::View;
+use crate::projection::image_bounds::{MAX_RECTS, Margins};
 use crate::render::{RenderSettings, Shading};
 
 use super::error::RasterError;

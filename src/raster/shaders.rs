@@ -31,7 +31,10 @@ pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
 /// ray of an image position), followed by `parts`.
 pub fn compose(parts: &[&str]) -> String {
     let mut s = wgsl_prelude();
-    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, PROJECTION].iter().chain(parts) {
+    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, PROJECTION]
+        .iter()
+        .chain(parts)
+    {
         s.push('\n');
         s.push_str(p);
     }
