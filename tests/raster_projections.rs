@@ -334,3 +334,67 @@ fn a_partial_equirect_is_the_crop_of_the_panorama() {
         assert!(depth <= 1e-6, "depth differs by {depth}");
     }
 }
+
+#[test]
+fn an_enclosing_sphere_fills_every_projection() {
+    let Some(raster) = raster_common::rasterizer() else {
+        return;
+    };
+    let scene = raster_common::enclosing_scene();
+    let camera = Camera::new(DVec3::ZERO, 0.0).with_orientation(30.0, -20.0);
+    for p in PROJECTIONS {
+        for (stereo_label, stereo) in [("mono", Stereo::Mono), ("ods", ods())] {
+            let s = settings(image(p, 192), camera, stereo);
+            agree(
+                &raster,
+                &scene,
+                &s,
+                &format!("enclosing {p} {stereo_label}"),
+            );
+        }
+    }
+}
+
+#[test]
+fn compute_splat_and_drawing_agree_in_every_projection() {
+    let Some(mut raster) = raster_common::rasterizer() else {
+        return;
+    };
+    if !raster.can_splat() {
+        raster_common::gpu::require_or_skip(&format!(
+            "the adapter {} has no 64-bit atomics, so the compute splat cannot run",
+            raster.adapter_name()
+        ));
+        return;
+    }
+    let scene = raster_common::stress_scene(600);
+    let camera = Camera::new(DVec3::ZERO, 20.0).with_orientation(30.0, -20.0);
+    let mut runs = Vec::new();
+    for limit in [16, 0] {
+        raster.set_splat_limit(limit);
+        let mut frames_and_counts = Vec::new();
+        for p in PROJECTIONS {
+            let s = settings(image(p, 288), camera, ods());
+            let (r, stats) = raster
+                .render(&scene, &s, &ProgressBar::hidden())
+                .expect("raster");
+            frames_and_counts.push((frames(&r), stats.splatted));
+        }
+        runs.push(frames_and_counts);
+    }
+    for (p, (splat, drawn)) in PROJECTIONS.iter().zip(runs[0].iter().zip(&runs[1])) {
+        assert!(splat.1 > 300, "{p}: {} spheres splatted", splat.1);
+        assert_eq!(drawn.1, 0);
+        for (a, b) in splat.0.iter().zip(&drawn.0) {
+            let differ = (0..a.color.len())
+                .filter(|&k| {
+                    a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits()
+                })
+                .count();
+            assert_eq!(
+                differ, 0,
+                "{p}: {differ} pixels differ between splat and draw"
+            );
+        }
+    }
+}
