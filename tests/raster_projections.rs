@@ -329,9 +329,10 @@ fn a_partial_equirect_is_the_crop_of_the_panorama() {
             }
         }
         eprintln!("crop {stereo:?}: {coverage} px coverage differ, depth max {depth:.2e}");
-        // The two images evaluate the same angles through different f32 formulas.
-        assert!(coverage <= 2, "{coverage} px differ in coverage");
-        assert!(depth <= 1e-6, "depth differs by {depth}");
+        // The two images evaluate the same angles through different f32 formulas (lavapipe:
+        // identical, no pixel and no depth bit differs).
+        assert!(coverage <= 1, "{coverage} px differ in coverage");
+        assert!(depth <= 2e-7, "depth differs by {depth}");
     }
 }
 
