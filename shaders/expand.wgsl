@@ -1,7 +1,8 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
 // Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
-// pole_merge, ods, params, chunk, sphere_bounds; appended: sphere and splat (or splat_off).
+// pole_merge, ods, projection, params, chunk, sphere_bounds, image_bounds; appended: sphere
+// and splat (or splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -114,6 +115,56 @@ fn emit_rect(r: Rect, idx: u32) {
     count(STAT_DRAWN, 1u);
 }
 
+// Writes each rectangle (pixels, clipped to the image) as a quad.
+fn emit_pixel_rects(rects: PixelRects, idx: u32) {
+    if rects.n == 0u {
+        return;
+    }
+    let base = reserve(6u * rects.n);
+    if base == 0xffffffffu {
+        return;
+    }
+    let uv = array<vec2<f32>, 4>(vec2<f32>(-1.0, 1.0), vec2<f32>(1.0, 1.0), vec2<f32>(1.0, -1.0),
+                                 vec2<f32>(-1.0, -1.0));
+    // A local copy: arrays are indexed dynamically through memory.
+    var rs = rects;
+    for (var k = 0u; k < rs.n; k++) {
+        let tl = rs.lo[k];
+        let br = rs.hi[k];
+        let p = array<vec2<f32>, 4>(tl, vec2<f32>(br.x, tl.y), br, vec2<f32>(tl.x, br.y));
+        write_quad(base + 6u * k, p, uv, 0.0, idx);
+    }
+    count(STAT_DRAWN, 1u);
+}
+
+// Every projection but the full equirect: bounds proxies and ray-cast fragments only (the
+// sizing refuses the rest). The sphere's pixel rectangles are splatted when small, else
+// drawn.
+fn expand_projected(view: View, s: vec3<f32>, radius: f32, idx: u32) {
+    let proj = projection_of(params);
+    var flags = 0u;
+    if proj.kind != PROJ_MAP {
+        if !has_projection(view, s) {
+            count(STAT_CULLED, 1u);
+            flags = FORCE_RAYCAST;
+        }
+        if flags != 0u || sphere_bounds(view, s, radius).special {
+            count(STAT_SPECIAL, 1u);
+            flags = FORCE_RAYCAST;
+        }
+    }
+    let rects = image_bounds(view, proj, params.image_size, s, radius);
+    if rects.n == 0u {
+        return;
+    }
+    if flags == 0u && try_splat_rects(view, rects, s, radius, idx) {
+        count(STAT_DRAWN, 1u);
+        count(STAT_SPLATTED, 1u);
+        return;
+    }
+    emit_pixel_rects(rects, idx | flags);
+}
+
 struct Billboard {
     center: vec3<f32>,
     u: vec3<f32>,
@@ -207,6 +258,10 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let s = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = view_of(params);
+    if params.projection != PROJ_EQUIRECT_FULL {
+        expand_projected(view, s, radius, idx);
+        return;
+    }
     let raycast = params.imposter == IMPOSTER_RAYCAST;
     let proxy = params.proxy;
     // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.

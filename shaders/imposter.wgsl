@@ -1,6 +1,6 @@
 // Render pass: rasterizes the expanded proxies of one eye and shades each fragment as the
 // sphere it stands for. Driven by src/raster/imposter.rs. Prepended: the constants prelude,
-// camera, equirect, pole_merge, ods, params, chunk, shading, sphere.
+// camera, equirect, pole_merge, ods, projection, params, chunk, shading, sphere.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -44,8 +44,11 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let center = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = view_of(params);
-    let a = angles_of_position(params.image_size, pos);
-    let r = ray(view, a.x, a.y);
+    let pixel = image_ray(view, projection_of(params), params.image_size, pos);
+    if !pixel.ok {
+        return miss;
+    }
+    let r = pixel.ray;
     var t: f32;
     var normal: vec3<f32>;
     var hit: vec3<f32>;

@@ -54,6 +54,19 @@ fn ray(v: View, lam: f32, phi: f32) -> Ray {
     return Ray(v.eye_sign * circle_radius(v, phi) * side, dir);
 }
 
+// `ray` from the sines and cosines of the longitude and latitude, t = (sin lam, cos lam,
+// sin phi, cos phi), and the latitude `phi` (for the merge factor only): for projections that
+// get them algebraically, since f32 atan2 followed by sin and cos would cost ~1e-5 rad.
+fn ray_of_trig(v: View, t: vec4<f32>, phi: f32) -> Ray {
+    let b = v.basis;
+    let dir = t.w * (t.x * b.right + t.y * b.forward) + t.z * b.up;
+    if v.eye_sign == 0.0 {
+        return Ray(vec3<f32>(0.0), dir);
+    }
+    let side = t.y * b.right - t.x * b.forward;
+    return Ray(v.eye_sign * circle_radius(v, phi) * side, dir);
+}
+
 fn latitude_for_radius(rho: f32, z: f32, r: f32) -> f32 {
     return atan2(z, sqrt(max(rho * rho - r * r, 0.0)));
 }

@@ -39,9 +39,17 @@ struct Params {
     eye: u32,
     // C in the frame of the bound points (zero when they are stored relative to C).
     camera_offset: vec3<f32>,
+    // PROJ_*, and its parameters (see Projection in projection.wgsl).
+    projection: u32,
+    projection_a: vec4<f32>,
+    projection_b: vec4<f32>,
 }
 
 fn view_of(p: Params) -> View {
     return View(Basis(p.forward, p.right, p.up), p.eye_sign, p.half_ipd, p.north, p.south,
                 p.ods_offset);
+}
+
+fn projection_of(p: Params) -> Projection {
+    return Projection(p.projection, p.projection_a, p.projection_b);
 }

@@ -1,7 +1,7 @@
 // Test kernel: evaluates the shared math (ods.wgsl, pole_merge.wgsl, sphere_bounds.wgsl,
-// sphere.wgsl, shading.wgsl) on given inputs so the Rust tests can compare it with the f64
-// reference. Prepended: camera, equirect, pole_merge, ods, params, sphere_bounds, sphere,
-// shading.
+// projection.wgsl, image_bounds.wgsl, sphere.wgsl, shading.wgsl) on given inputs so the Rust
+// tests can compare it with the f64 reference. Prepended: camera, equirect, pole_merge, ods,
+// projection, params, sphere_bounds, image_bounds, sphere, shading.
 
 // One item's inputs; laid out as `ProbeItem` in src/raster/probe.rs. Positions are relative
 // to C.
@@ -21,14 +21,17 @@ struct ProbeItem {
     normal: vec4<f32>,
     hit: vec4<f32>,
     eye: vec4<f32>,
+    // xy: an image position (pixels) for image_ray.
+    pixel: vec4<f32>,
 }
 
-const PROBE_SLOTS: u32 = 6u;
+const PROBE_SLOTS: u32 = 15u;
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> probe_items: array<ProbeItem>;
 // Per item, PROBE_SLOTS slots: (lam, phi, ok, merge(phi_in)), (ray origin, 0), (ray dir, 0),
-// (shaded colour, intersection t), (bounds lo, bounds hi), (bounds special, 0, 0, 0).
+// (shaded colour, intersection t), (bounds lo, bounds hi), (bounds special, rect count, image
+// ray ok, 0), (image ray origin, 0), (image ray dir, 0), then MAX_RECTS (rect lo, rect hi).
 @group(0) @binding(2) var<storage, read_write> probe_out: array<vec4<f32>>;
 
 @compute @workgroup_size(64)
@@ -54,5 +57,18 @@ fn probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     probe_out[o + 3u] = vec4<f32>(c, t);
     let b = sphere_bounds(view, it.sphere.xyz, it.sphere.w);
     probe_out[o + 4u] = vec4<f32>(b.rect.lo, b.rect.hi);
-    probe_out[o + 5u] = vec4<f32>(select(0.0, 1.0, b.special), 0.0, 0.0, 0.0);
+    let size = params.image_size;
+    let proj = projection_of(params);
+    var rects = image_bounds(view, proj, size, it.sphere.xyz, it.sphere.w);
+    let pixel = image_ray(view, proj, size, it.pixel.xy);
+    probe_out[o + 5u] = vec4<f32>(select(0.0, 1.0, b.special), f32(rects.n),
+                                  select(0.0, 1.0, pixel.ok), 0.0);
+    probe_out[o + 6u] = vec4<f32>(pixel.ray.origin, 0.0);
+    probe_out[o + 7u] = vec4<f32>(pixel.ray.dir, 0.0);
+    for (var k = 0u; k < MAX_RECTS; k++) {
+        probe_out[o + 8u + k] = vec4<f32>(0.0);
+        if k < rects.n {
+            probe_out[o + 8u + k] = vec4<f32>(rects.lo[k], rects.hi[k]);
+        }
+    }
 }

@@ -46,3 +46,45 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     }
     return true;
 }
+
+// Ray casts the pixels of `rects` (image_bounds, clipped to the image) with their own
+// projection's rays when each spans at most `params.splat_limit` pixels per side; false when
+// one is too large (draw them instead).
+fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx: u32) -> bool {
+    let limit = params.splat_limit;
+    if limit <= 0.0 {
+        return false;
+    }
+    let size = params.image_size;
+    // A local copy: arrays are indexed dynamically through memory.
+    var rs = rects;
+    for (var k = 0u; k < rs.n; k++) {
+        let span = floor(rs.hi[k] - 0.5) - ceil(rs.lo[k] - 0.5);
+        if span.x >= limit || span.y >= limit {
+            return false;
+        }
+    }
+    let proj = projection_of(params);
+    let w = i32(size.x);
+    for (var k = 0u; k < rs.n; k++) {
+        // Pixel centres (x + 0.5, y + 0.5) inside the rectangle, as the rasterizer samples them.
+        let x0 = i32(ceil(rs.lo[k].x - 0.5));
+        let x1 = min(i32(floor(rs.hi[k].x - 0.5)), w - 1);
+        let y0 = i32(ceil(rs.lo[k].y - 0.5));
+        let y1 = min(i32(floor(rs.hi[k].y - 0.5)), i32(size.y) - 1);
+        for (var y = max(y0, 0); y <= y1; y++) {
+            for (var x = max(x0, 0); x <= x1; x++) {
+                let pixel = image_ray(view, proj, size, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5));
+                if !pixel.ok {
+                    continue;
+                }
+                let t = intersect_sphere(pixel.ray, s, radius);
+                if t > 0.0 {
+                    let key = (u64(~bitcast<u32>(t)) << 32u) | u64(~idx);
+                    atomicMax(&splat_keys[u32(y * w + x)], key);
+                }
+            }
+        }
+    }
+    return true;
+}

@@ -8,11 +8,14 @@ use std::f64::consts::SQRT_2;
 pub fn angles(u: f64, v: f64) -> Option<(f64, f64)> {
     let x = (2.0 * u - 1.0) * 2.0 * SQRT_2;
     let y = (1.0 - 2.0 * v) * SQRT_2;
-    if x * x / 8.0 + y * y / 2.0 > 1.0 {
+    // 2 z^2 - 1 with z = sqrt(1 - x^2/16 - y^2/4), from x and y rather than from the
+    // rounded z (the f32 twin in shaders/projection.wgsl needs it).
+    let w = 1.0 - x * x / 8.0 - y * y / 2.0;
+    if w < 0.0 {
         return None;
     }
-    let z = (1.0 - x * x / 16.0 - y * y / 4.0).sqrt();
-    let lam = 2.0 * (z * x).atan2(2.0 * (2.0 * z * z - 1.0));
+    let z = (0.5 * (1.0 + w)).sqrt();
+    let lam = 2.0 * (z * x).atan2(2.0 * w);
     let phi = (z * y).clamp(-1.0, 1.0).asin();
     Some((lam, phi))
 }

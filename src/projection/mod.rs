@@ -1,10 +1,11 @@
 //! Camera model and orientation, the projections, pole merging, the ODS ray and the other
-//! stereo models, disparity and the depth budget (DESIGN §1–4, §8–9), and the bounding box
-//! of a sphere's image (`docs/SPHERE_BOUNDS.md`).
+//! stereo models, disparity and the depth budget (DESIGN §1–4, §8–9), the bounding box of a
+//! sphere's image (`docs/SPHERE_BOUNDS.md`) and its pixel rectangles in every projection
+//! (`image_bounds`).
 //!
 //! Everything here is f64 and exact: the reference that the WGSL in `shaders/` mirrors
 //! file for file (`camera.wgsl`, `equirect.wgsl`, `pole_merge.wgsl`, `ods.wgsl`,
-//! `sphere_bounds.wgsl`).
+//! `sphere_bounds.wgsl`, `projection.wgsl`, `image_bounds.wgsl`).
 
 pub mod camera;
 pub mod cubemap;
@@ -15,6 +16,7 @@ pub mod equirect;
 pub mod fisheye;
 pub mod hammer;
 pub mod image;
+pub mod image_bounds;
 pub mod map;
 pub mod ods;
 pub mod pole_merge;
@@ -23,6 +25,7 @@ pub mod sphere_bounds;
 pub use camera::Camera;
 pub use equirect::Equirect;
 pub use image::{Image, Projection};
+pub use image_bounds::{Margins, PixelRect, image_bounds};
 pub use map::MapFrame;
 pub use ods::{Eye, EyeModel, OdsOffset, Stereo, StereoKind, View};
 pub use pole_merge::{PoleMerge, PoleMerging};

@@ -60,6 +60,9 @@ shared_constants! {
     /// Angular slack added around analytic bounds, radians: covers f32 rounding of the bounds
     /// and of the fragment's ray (about 0.06 px at 3840 wide).
     ANGLE_MARGIN: f32 = 2e-4;
+    /// Slack added around the pixel rectangles of `shaders/image_bounds.wgsl`, pixels: covers
+    /// the f32 rounding of their corners (the projections other than the full equirect).
+    PIXEL_MARGIN: f32 = 0.01;
     /// Fixed-point steps of the ODS inverse before it falls back to bisection (as the f64
     /// solver in `src/projection/ods.rs`).
     FIXED_POINT_ITERATIONS: i32 = crate::projection::ods::FIXED_POINT_ITERATIONS as i32;
@@ -72,6 +75,22 @@ shared_constants! {
     PROXY_STATIC: u32 = 2;
     /// `Params::proxy`: a billboard tessellated per point.
     PROXY_DYNAMIC: u32 = 3;
+
+    /// `Params::projection`: the full 360 x 180 equirect (`equirect.wgsl`'s own arithmetic).
+    PROJ_EQUIRECT_FULL: u32 = 0;
+    /// `Params::projection`: equirect over `a = (hfov, vfov)` radians.
+    PROJ_EQUIRECT: u32 = 1;
+    /// `Params::projection`: Hammer–Aitoff.
+    PROJ_HAMMER: u32 = 2;
+    /// `Params::projection`: cylindrical, `a = (tan(vfov/2), vfov)`.
+    PROJ_CYLINDRICAL: u32 = 3;
+    /// `Params::projection`: equidistant fisheye, `a.x = fov` radians.
+    PROJ_FISHEYE: u32 = 4;
+    /// `Params::projection`: the six-face strip.
+    PROJ_CUBEMAP: u32 = 5;
+    /// `Params::projection`: the map, `a = (x0, y1, x1 - x0, y1 - y0)`, `b.x = z_top`,
+    /// relative to the camera centre.
+    PROJ_MAP: u32 = 6;
 
     /// `Params::imposter`: exact per-pixel ray casting.
     IMPOSTER_RAYCAST: u32 = 0;

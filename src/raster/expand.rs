@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::constants::EXPAND_WORKGROUP;
-use super::shaders::{self, CHUNK, PARAMS, SPHERE, SPHERE_BOUNDS};
+use super::shaders::{self, CHUNK, IMAGE_BOUNDS, PARAMS, SPHERE, SPHERE_BOUNDS};
 use super::splat;
 
 /// `shaders/expand.wgsl`.
@@ -42,6 +42,7 @@ pub fn source(splat: bool) -> String {
         PARAMS,
         CHUNK,
         SPHERE_BOUNDS,
+        IMAGE_BOUNDS,
         EXPAND,
         SPHERE,
         splat::expand_part(splat),

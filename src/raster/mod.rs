@@ -1,7 +1,9 @@
 //! GPU imposter-sphere rasterizer (wgpu), DESIGN §3, §5, §7.
 //!
 //! A compute pass (`expand.rs`, `shaders/expand.wgsl`) turns each point into per-eye proxy
-//! triangles in equirect pixel space; a render pass (`imposter.rs`, `shaders/imposter.wgsl`)
+//! triangles in equirect pixel space (in the other projections of DESIGN §8: the pixel
+//! rectangles of `shaders/image_bounds.wgsl`, each pixel ray cast with its projection's ray,
+//! `shaders/projection.wgsl`); a render pass (`imposter.rs`, `shaders/imposter.wgsl`)
 //! shades each fragment as the sphere (exact ODS ray cast, or the paper's sprite) with a
 //! logarithmic depth test; small spheres are ray cast by the compute pass instead
 //! (`splat.rs`). Points live on the GPU relative to the camera centre, in chunks that fit one

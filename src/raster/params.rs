@@ -1,14 +1,19 @@
 //! The uniform block of `shaders/params.wgsl`, filled from a [`View`] and the settings.
 
-use bytemuck::{Pod, Zeroable};
+use std::f64::consts::{PI, TAU};
 
-use crate::projection::{OdsOffset, PoleMerge, View};
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+
+use crate::projection::{MapFrame, OdsOffset, PoleMerge, Projection, View};
 use crate::render::shading::{Shading, lights};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::constants::{
     DEPTH_FAR, DEPTH_NEAR, IMPOSTER_RAYCAST, IMPOSTER_SPRITE, MERGE_CYCLES, MERGE_MARRINAN,
-    MERGE_OFF, OFFSET_EXACT, OFFSET_PAPER, PROXY_BOUNDS, PROXY_DYNAMIC, PROXY_QUAD, PROXY_STATIC,
+    MERGE_OFF, OFFSET_EXACT, OFFSET_PAPER, PROJ_CUBEMAP, PROJ_CYLINDRICAL, PROJ_EQUIRECT,
+    PROJ_EQUIRECT_FULL, PROJ_FISHEYE, PROJ_HAMMER, PROJ_MAP, PROXY_BOUNDS, PROXY_DYNAMIC,
+    PROXY_QUAD, PROXY_STATIC,
 };
 
 /// One pole's merge profile (WGSL `PoleMerge`): `kind` is a `MERGE_*` constant, `a, b, c`
@@ -106,8 +111,12 @@ pub struct Params {
     /// relative to it, as chunks drawn once are; a scene uploaded once for many camera
     /// positions is stored relative to one fixed point).
     pub camera_offset: [f32; 3],
-    /// Pads the block to a multiple of 16 bytes.
-    pub pad_end: u32,
+    /// A `PROJ_*` constant: the image's projection.
+    pub projection: u32,
+    /// The projection's parameters (`Projection` in `shaders/projection.wgsl`).
+    pub projection_a: [f32; 4],
+    /// More of them (the map's ray height).
+    pub projection_b: [f32; 4],
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -176,7 +185,52 @@ impl Params {
             eye,
             pad: [0; 3],
             camera_offset: [0.0; 3],
-            pad_end: 0,
+            projection: 0,
+            projection_a: [0.0; 4],
+            projection_b: [0.0; 4],
+        }
+        .with_projection(&settings.image.projection, settings.camera.center)
+    }
+
+    /// These parameters with `projection` (map frames taken relative to the camera centre
+    /// `center`).
+    fn with_projection(self, projection: &Projection, center: DVec3) -> Self {
+        let (kind, a, b) = match *projection {
+            p if p.is_full_equirect() => (PROJ_EQUIRECT_FULL, [TAU, PI, 0.0, 0.0], 0.0),
+            Projection::Equirect { hfov_deg, vfov_deg } => (
+                PROJ_EQUIRECT,
+                [hfov_deg.to_radians(), vfov_deg.to_radians(), 0.0, 0.0],
+                0.0,
+            ),
+            Projection::Hammer => (PROJ_HAMMER, [0.0; 4], 0.0),
+            Projection::Cylindrical { vfov_deg } => {
+                let v = vfov_deg.to_radians();
+                (PROJ_CYLINDRICAL, [(0.5 * v).tan(), v, 0.0, 0.0], 0.0)
+            }
+            Projection::Fisheye { fov_deg } => {
+                (PROJ_FISHEYE, [fov_deg.to_radians(), 0.0, 0.0, 0.0], 0.0)
+            }
+            Projection::Cubemap => (PROJ_CUBEMAP, [0.0; 4], 0.0),
+            Projection::Map(frame) => {
+                let f = frame.unwrap_or(MapFrame {
+                    x0: 0.0,
+                    x1: 1.0,
+                    y0: 0.0,
+                    y1: 1.0,
+                    z_top: 0.0,
+                });
+                (
+                    PROJ_MAP,
+                    [f.x0 - center.x, f.y1 - center.y, f.x1 - f.x0, f.y1 - f.y0],
+                    f.z_top - center.z,
+                )
+            }
+        };
+        Params {
+            projection: kind,
+            projection_a: a.map(|x| x as f32),
+            projection_b: [b as f32, 0.0, 0.0, 0.0],
+            ..self
         }
     }
 }
@@ -192,10 +246,10 @@ mod tests {
         let rust = field_offsets!(Params: forward, eye_sign, right, half_ipd, up, splat_limit,
             north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
             light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
-            static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset);
-        // The WGSL struct ends at `camera_offset` and rounds its size up to 16 bytes; Rust pads.
-        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 192));
-        assert_eq!(size_of::<Params>(), 192);
+            static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset,
+            projection, projection_a, projection_b);
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 224));
+        assert_eq!(size_of::<Params>(), 224);
 
         let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
         let size = size_of::<GpuPoleMerge>() as u32;

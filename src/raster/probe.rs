@@ -1,10 +1,11 @@
 //! A compute kernel over the shared WGSL math (`shaders/probe.wgsl`), so tests can check the
-//! GPU `project`, `ray`, pole merge, `intersect_sphere`, `shade` and `sphere_bounds` against
-//! the f64 Rust functions.
+//! GPU `project`, `ray`, pole merge, `intersect_sphere`, `shade`, `sphere_bounds`,
+//! `image_ray` and `image_bounds` against the f64 Rust functions.
 
 use bytemuck::{Pod, Zeroable};
 
 use crate::projection::View;
+use crate::projection::image_bounds::{MAX_RECTS, Margins};
 use crate::render::{RenderSettings, Shading};
 
 use super::error::RasterError;
@@ -21,14 +22,24 @@ pub fn source() -> String {
     shaders::compose(&[
         shaders::PARAMS,
         shaders::SPHERE_BOUNDS,
+        shaders::IMAGE_BOUNDS,
         shaders::SPHERE,
         shaders::SHADING,
         PROBE,
     ])
 }
 
+/// The margins `shaders/image_bounds.wgsl` adds (`ANGLE_MARGIN`, `PIXEL_MARGIN`), for the f64
+/// twin.
+pub fn bounds_margins() -> Margins {
+    Margins {
+        angle: f64::from(super::constants::ANGLE_MARGIN),
+        pixel: f64::from(super::constants::PIXEL_MARGIN),
+    }
+}
+
 /// vec4 slots the kernel writes per item.
-const OUT_SLOTS: usize = 6;
+const OUT_SLOTS: usize = 15;
 
 /// One probe item: the inputs of every function the kernel evaluates. Positions are relative
 /// to the camera centre C, as on the GPU.
@@ -54,12 +65,14 @@ pub struct ProbeItem {
     pub hit: [f32; 3],
     /// `shade` eye (the ray's origin).
     pub eye: [f32; 3],
+    /// Image position (pixels) for `image_ray` in the settings' image.
+    pub pixel: [f32; 2],
 }
 
 /// WGSL `ProbeItem` (vec4 slots only).
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct ItemSlots([[f32; 4]; 9]);
+struct ItemSlots([[f32; 4]; 10]);
 
 impl ProbeItem {
     fn slots(&self) -> ItemSlots {
@@ -79,6 +92,7 @@ impl ProbeItem {
             v(self.normal, 0.0),
             v(self.hit, 0.0),
             v(self.eye, 0.0),
+            [self.pixel[0], self.pixel[1], 0.0, 0.0],
         ])
     }
 }
@@ -104,6 +118,14 @@ pub struct ProbeResult {
     pub bounds_hi: [f32; 2],
     /// `sphere_bounds(sphere)`: the special flag.
     pub bounds_special: bool,
+    /// `image_ray(pixel)` in the settings' image: origin relative to C and direction, or
+    /// `None` where the projection shows nothing.
+    pub image_ray: Option<([f32; 3], [f32; 3])>,
+    /// `image_bounds(sphere)` in the settings' image: `(lo.x, lo.y, hi.x, hi.y)` pixels of
+    /// the first `rect_count` entries.
+    pub rects: [[f32; 4]; MAX_RECTS],
+    /// Rectangles `image_bounds` returned.
+    pub rect_count: usize,
 }
 
 impl Rasterizer {
@@ -205,6 +227,10 @@ impl Rasterizer {
                     bounds_lo: [b[0], b[1]],
                     bounds_hi: [b[2], b[3]],
                     bounds_special: s[5][0] != 0.0,
+                    image_ray: (s[5][2] != 0.0)
+                        .then_some(([s[6][0], s[6][1], s[6][2]], [s[7][0], s[7][1], s[7][2]])),
+                    rects: std::array::from_fn(|k| s[8 + k]),
+                    rect_count: s[5][1] as usize,
                 }
             })
             .collect())

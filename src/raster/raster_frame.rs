@@ -125,7 +125,8 @@ impl Rasterizer {
 /// Rejects settings the rasterizer cannot draw.
 fn check_settings(settings: &RenderSettings) -> Result<(), RasterError> {
     let img = settings.image;
-    if img.width == 0 || img.height == 0 || img.width != 2 * img.height {
+    let two_to_one = img.width == 2 * img.height || !img.projection.is_full_equirect();
+    if img.width == 0 || img.height == 0 || !two_to_one {
         return Err(RasterError::Settings(format!(
             "image {}x{} is not a 2:1 equirectangular size",
             img.width, img.height

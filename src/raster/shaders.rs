@@ -14,6 +14,10 @@ pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
 pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
 /// `shaders/sphere_bounds.wgsl`: the box of a sphere's image.
 pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl");
+/// `shaders/projection.wgsl`: the ray of an image position in each projection.
+pub const PROJECTION: &str = include_str!("../../shaders/projection.wgsl");
+/// `shaders/image_bounds.wgsl`: the pixel rectangles of a sphere's image.
+pub const IMAGE_BOUNDS: &str = include_str!("../../shaders/image_bounds.wgsl");
 /// `shaders/params.wgsl`: the per-batch uniform.
 pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
 /// `shaders/chunk.wgsl`: the point records.
@@ -23,10 +27,14 @@ pub const SHADING: &str = include_str!("../../shaders/shading.wgsl");
 /// `shaders/sphere.wgsl`: the ray-sphere intersection.
 pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
 
-/// The constants prelude and the projection math every pipeline needs, followed by `parts`.
+/// The constants prelude and the projection math every pipeline needs (the ODS ray and the
+/// ray of an image position), followed by `parts`.
 pub fn compose(parts: &[&str]) -> String {
     let mut s = wgsl_prelude();
-    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS].iter().chain(parts) {
+    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, PROJECTION]
+        .iter()
+        .chain(parts)
+    {
         s.push('\n');
         s.push_str(p);
     }

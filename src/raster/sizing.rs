@@ -2,7 +2,8 @@
 //! splatted, the vertex and splat-key buffer sizes and the points per expand batch. Pure
 //! functions of the device limits and the request.
 
-use crate::projection::Stereo;
+use crate::projection::image_bounds::max_rects;
+use crate::projection::{Projection, Stereo};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::chunk::GpuPoint;
@@ -50,11 +51,13 @@ pub fn points_per_chunk(caps: &DeviceCaps) -> u64 {
     (caps.max_storage_buffer().min(MAX_CHUNK_BYTES) / size_of::<GpuPoint>() as u64).max(1)
 }
 
-/// Worst-case vertices one point can emit under `proxy`: its grid of two triangles per cell,
-/// three times (the proxy and two seam copies).
-pub fn max_vertices_per_point(proxy: Proxy) -> u64 {
+/// Worst-case vertices one point can emit under `proxy` in `projection`: its grid of two
+/// triangles per cell, twice (the proxy and its seam copy); a bounds proxy outside the full
+/// equirect, one quad per pixel rectangle.
+pub fn max_vertices_per_point(proxy: Proxy, projection: &Projection) -> u64 {
     let n = match proxy {
-        Proxy::Bounds | Proxy::Quad => 1,
+        Proxy::Bounds => return 6 * max_rects(projection).max(2) as u64,
+        Proxy::Quad => 1,
         Proxy::Static(n) => n.max(1) as u64,
         Proxy::Dynamic => MAX_DYNAMIC_LEVEL as u64,
     };
@@ -93,11 +96,19 @@ impl FrameSizing {
         settings: &RenderSettings,
         max_chunk_points: u64,
     ) -> Result<Self, RasterError> {
-        if !settings.image.projection.is_full_equirect() {
+        let projection = settings.image.projection;
+        if !projection.is_full_equirect()
+            && (settings.proxy != Proxy::Bounds || settings.imposter != Imposter::Raycast)
+        {
             return Err(RasterError::Settings(format!(
-                "the rasterizer does not draw the {} projection: use --renderer raytrace",
-                settings.image.projection
+                "the rasterizer draws the {projection} projection with --proxy bounds \
+                 --imposter raycast only (billboard proxies and sprites are equirect-only)"
             )));
+        }
+        if projection == Projection::Map(None) {
+            return Err(RasterError::Settings(
+                "the map projection needs its extent from the scene's bounds (Image::map)".into(),
+            ));
         }
         if matches!(
             settings.stereo,
@@ -117,7 +128,7 @@ impl FrameSizing {
             && key_bytes <= caps.max_storage_buffer();
 
         let vertex_bytes = size_of::<ExpandedVertex>() as u64;
-        let per_point = max_vertices_per_point(settings.proxy);
+        let per_point = max_vertices_per_point(settings.proxy, &projection);
         let vertex_bytes_max = caps
             .max_storage_buffer()
             .min(MAX_VERTEX_BYTES)
@@ -159,7 +170,7 @@ mod tests {
     use glam::DVec3;
 
     use super::*;
-    use crate::projection::Camera;
+    use crate::projection::{Camera, Image};
 
     /// What lavapipe (llvmpipe, Mesa 22) grants.
     const LAVAPIPE: DeviceCaps = DeviceCaps {
@@ -256,7 +267,10 @@ mod tests {
 
     #[test]
     fn the_dynamic_proxy_sizes_for_its_worst_case_level() {
-        assert_eq!(max_vertices_per_point(Proxy::Dynamic), 12 * 16 * 16);
+        assert_eq!(
+            max_vertices_per_point(Proxy::Dynamic, &Projection::EQUIRECT),
+            12 * 16 * 16
+        );
         let s = settings(3840, Proxy::Dynamic, Imposter::Raycast);
         let f = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 8 << 20).unwrap();
         // 3072 vertices of 16 bytes per point: 2730 points fit 128 MiB.
@@ -302,6 +316,43 @@ mod tests {
             Err(RasterError::Limit { needed, limit, .. }) => {
                 assert_eq!((needed, limit), (49_152, 40_000))
             }
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn other_projections_draw_bounds_with_one_quad_per_rectangle() {
+        let mut s = bounds(384);
+        s.image = Image::new(Projection::Cubemap, 384).unwrap();
+        let f = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100).unwrap();
+        // Up to six face rectangles of six vertices each.
+        assert_eq!((f.batch_points, f.vertex_capacity), (100, 100 * 36));
+        assert_eq!(f.splat_key_bytes, 384 * 64 * 8);
+        s.image = Image::new(Projection::Hammer, 384).unwrap();
+        let f = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100).unwrap();
+        assert_eq!(f.vertex_capacity, 100 * 12);
+    }
+
+    #[test]
+    fn other_projections_refuse_billboards_sprites_and_an_unresolved_map() {
+        for (proxy, imposter) in [
+            (Proxy::Quad, Imposter::Raycast),
+            (Proxy::Dynamic, Imposter::Raycast),
+            (Proxy::Bounds, Imposter::Sprite),
+        ] {
+            let mut s = settings(384, proxy, imposter);
+            s.image = Image::new(Projection::Fisheye { fov_deg: 180.0 }, 384).unwrap();
+            match FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100) {
+                Err(RasterError::Settings(m)) => {
+                    assert!(m.contains("--proxy bounds --imposter raycast"), "{m}")
+                }
+                other => panic!("{other:?}"),
+            }
+        }
+        let mut s = bounds(384);
+        s.image.projection = Projection::Map(None);
+        match FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100) {
+            Err(RasterError::Settings(m)) => assert!(m.contains("map"), "{m}"),
             other => panic!("{other:?}"),
         }
     }
