@@ -39,9 +39,11 @@ struct Params {
     eye: u32,
     // C in the frame of the bound points (zero when they are stored relative to C).
     camera_offset: vec3<f32>,
+    // MODEL_ODS or MODEL_PARALLEL: where the eye's rays start.
+    eye_model: u32,
 }
 
 fn view_of(p: Params) -> View {
     return View(Basis(p.forward, p.right, p.up), p.eye_sign, p.half_ipd, p.north, p.south,
-                p.ods_offset);
+                p.ods_offset, p.eye_model);
 }

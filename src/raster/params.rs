@@ -2,13 +2,14 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::projection::{OdsOffset, PoleMerge, View};
+use crate::projection::{EyeModel, OdsOffset, PoleMerge, View};
 use crate::render::shading::{Shading, lights};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::constants::{
     DEPTH_FAR, DEPTH_NEAR, IMPOSTER_RAYCAST, IMPOSTER_SPRITE, MERGE_CYCLES, MERGE_MARRINAN,
-    MERGE_OFF, OFFSET_EXACT, OFFSET_PAPER, PROXY_BOUNDS, PROXY_DYNAMIC, PROXY_QUAD, PROXY_STATIC,
+    MERGE_OFF, MODEL_ODS, MODEL_PARALLEL, OFFSET_EXACT, OFFSET_PAPER, PROXY_BOUNDS, PROXY_DYNAMIC,
+    PROXY_QUAD, PROXY_STATIC,
 };
 
 /// One pole's merge profile (WGSL `PoleMerge`): `kind` is a `MERGE_*` constant, `a, b, c`
@@ -106,8 +107,8 @@ pub struct Params {
     /// relative to it, as chunks drawn once are; a scene uploaded once for many camera
     /// positions is stored relative to one fixed point).
     pub camera_offset: [f32; 3],
-    /// Pads the block to a multiple of 16 bytes.
-    pub pad_end: u32,
+    /// `MODEL_ODS` or `MODEL_PARALLEL`: where the eye's rays start.
+    pub eye_model: u32,
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -176,7 +177,10 @@ impl Params {
             eye,
             pad: [0; 3],
             camera_offset: [0.0; 3],
-            pad_end: 0,
+            eye_model: match view.model {
+                EyeModel::Ods => MODEL_ODS,
+                EyeModel::Parallel => MODEL_PARALLEL,
+            },
         }
     }
 }
@@ -192,8 +196,8 @@ mod tests {
         let rust = field_offsets!(Params: forward, eye_sign, right, half_ipd, up, splat_limit,
             north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
             light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
-            static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset);
-        // The WGSL struct ends at `camera_offset` and rounds its size up to 16 bytes; Rust pads.
+            static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset,
+            eye_model);
         assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 192));
         assert_eq!(size_of::<Params>(), 192);
 

@@ -2,7 +2,6 @@
 //! splatted, the vertex and splat-key buffer sizes and the points per expand batch. Pure
 //! functions of the device limits and the request.
 
-use crate::projection::Stereo;
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::chunk::GpuPoint;
@@ -97,15 +96,6 @@ impl FrameSizing {
             return Err(RasterError::Settings(format!(
                 "the rasterizer does not draw the {} projection: use --renderer raytrace",
                 settings.image.projection
-            )));
-        }
-        if matches!(
-            settings.stereo,
-            Stereo::Parallel { .. } | Stereo::Cubemap { .. }
-        ) {
-            return Err(RasterError::Settings(format!(
-                "the rasterizer does not draw --stereo {}: use --renderer raytrace",
-                settings.stereo.kind()
             )));
         }
         let img = settings.image;
