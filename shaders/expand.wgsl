@@ -1,7 +1,7 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
 // Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
-// pole_merge, ods, params, chunk, sphere_bounds; appended: sphere and splat (or splat_off).
+// pole_merge, ods, depth_map, params, chunk, sphere_bounds; appended: sphere and splat (or splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -206,7 +206,7 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pt = points[idx];
     let s = pt.position - params.camera_offset;
     let radius = pt.radius;
-    let view = view_of(params);
+    let view = sphere_view(params, s);
     let raycast = params.imposter == IMPOSTER_RAYCAST;
     let proxy = params.proxy;
     // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.

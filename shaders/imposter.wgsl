@@ -1,6 +1,6 @@
 // Render pass: rasterizes the expanded proxies of one eye and shades each fragment as the
 // sphere it stands for. Driven by src/raster/imposter.rs. Prepended: the constants prelude,
-// camera, equirect, pole_merge, ods, params, chunk, shading, sphere.
+// camera, equirect, pole_merge, ods, depth_map, params, chunk, shading, sphere.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -43,7 +43,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let pt = points[index];
     let center = pt.position - params.camera_offset;
     let radius = pt.radius;
-    let view = view_of(params);
+    let view = sphere_view(params, center);
     let a = angles_of_position(params.image_size, pos);
     let r = ray(view, a.x, a.y);
     var t: f32;

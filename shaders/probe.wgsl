@@ -1,7 +1,7 @@
 // Test kernel: evaluates the shared math (ods.wgsl, pole_merge.wgsl, sphere_bounds.wgsl,
 // sphere.wgsl, shading.wgsl) on given inputs so the Rust tests can compare it with the f64
-// reference. Prepended: camera, equirect, pole_merge, ods, params, sphere_bounds, sphere,
-// shading.
+// reference. Prepended: camera, equirect, pole_merge, ods, depth_map, params, sphere_bounds,
+// sphere, shading.
 
 // One item's inputs; laid out as `ProbeItem` in src/raster/probe.rs. Positions are relative
 // to C.

@@ -8,6 +8,7 @@
 pub mod camera;
 pub mod cubemap;
 pub mod cylindrical;
+pub mod depth_map;
 pub mod equirect;
 pub mod fisheye;
 pub mod hammer;

@@ -109,6 +109,14 @@ pub struct Params {
     pub camera_offset: [f32; 3],
     /// `MODEL_ODS` or `MODEL_PARALLEL`: where the eye's rays start.
     pub eye_model: u32,
+    /// `--depth-map` breakpoints, packed ([`crate::projection::depth_map::DepthMap::packed_f32`]).
+    pub depth_map_b: [[f32; 4]; 2],
+    /// `--depth-map` distances, packed.
+    pub depth_map_d: [[f32; 4]; 2],
+    /// Pairs of the view's depth map; 0 without one.
+    pub depth_map_count: u32,
+    /// Pads the block to a multiple of 16 bytes.
+    pub pad_end: [u32; 3],
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -135,6 +143,9 @@ impl Params {
         let ls = lights(&settings.camera);
         let c = settings.camera.center;
         let light = |i: usize| v3(ls[i].position.as_dvec3() - c);
+        let (depth_map_b, depth_map_d) = view
+            .depth_map
+            .map_or(([[0.0; 4]; 2], [[0.0; 4]; 2]), |m| m.packed_f32());
         Params {
             forward: v3(b.forward),
             eye_sign: view.eye_sign as f32,
@@ -181,6 +192,10 @@ impl Params {
                 EyeModel::Ods => MODEL_ODS,
                 EyeModel::Parallel => MODEL_PARALLEL,
             },
+            depth_map_b,
+            depth_map_d,
+            depth_map_count: view.depth_map.map_or(0, |m| m.len() as u32),
+            pad_end: [0; 3],
         }
     }
 }
@@ -197,9 +212,11 @@ mod tests {
             north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
             light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
             static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset,
-            eye_model);
-        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 192));
-        assert_eq!(size_of::<Params>(), 192);
+            eye_model, depth_map_b, depth_map_d, depth_map_count);
+        // The WGSL struct ends at `depth_map_count` and rounds its size up to 16 bytes; Rust
+        // pads.
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 272));
+        assert_eq!(size_of::<Params>(), 272);
 
         let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
         let size = size_of::<GpuPoleMerge>() as u32;

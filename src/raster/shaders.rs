@@ -12,6 +12,8 @@ pub const EQUIRECT: &str = include_str!("../../shaders/equirect.wgsl");
 pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
 /// `shaders/ods.wgsl`.
 pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
+/// `shaders/depth_map.wgsl`: each sphere's own ODS radius under `--depth-map`.
+pub const DEPTH_MAP: &str = include_str!("../../shaders/depth_map.wgsl");
 /// `shaders/sphere_bounds.wgsl`: the box of a sphere's image.
 pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl");
 /// `shaders/params.wgsl`: the per-batch uniform.
@@ -26,7 +28,10 @@ pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
 /// The constants prelude and the projection math every pipeline needs, followed by `parts`.
 pub fn compose(parts: &[&str]) -> String {
     let mut s = wgsl_prelude();
-    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS].iter().chain(parts) {
+    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, DEPTH_MAP]
+        .iter()
+        .chain(parts)
+    {
         s.push('\n');
         s.push_str(p);
     }
