@@ -1,8 +1,8 @@
 // Compute pass: expands each point of a chunk into proxy triangles in one eye's equirect
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
 // Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
-// pole_merge, ods, projection, params, chunk, sphere_bounds, image_bounds; appended: sphere
-// and splat (or splat_off).
+// pole_merge, ods, depth_map, projection, params, chunk, sphere_bounds, image_bounds; appended:
+// sphere and splat (or splat_off).
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -257,7 +257,7 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let pt = points[idx];
     let s = pt.position - params.camera_offset;
     let radius = pt.radius;
-    let view = view_of(params);
+    let view = sphere_view(params, s);
     if params.projection != PROJ_EQUIRECT_FULL {
         expand_projected(view, s, radius, idx);
         return;

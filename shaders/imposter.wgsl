@@ -1,6 +1,6 @@
 // Render pass: rasterizes the expanded proxies of one eye and shades each fragment as the
 // sphere it stands for. Driven by src/raster/imposter.rs. Prepended: the constants prelude,
-// camera, equirect, pole_merge, ods, projection, params, chunk, shading, sphere.
+// camera, equirect, pole_merge, ods, depth_map, projection, params, chunk, shading, sphere.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -43,7 +43,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let pt = points[index];
     let center = pt.position - params.camera_offset;
     let radius = pt.radius;
-    let view = view_of(params);
+    let view = sphere_view(params, center);
     let pixel = image_ray(view, projection_of(params), params.image_size, pos);
     if !pixel.ok {
         return miss;

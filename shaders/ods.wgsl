@@ -10,6 +10,8 @@ struct View {
     south: PoleMerge,
     // OFFSET_EXACT (the exact inverse) or OFFSET_PAPER (the paper's per-vertex offset).
     offset: u32,
+    // MODEL_ODS (rays on the viewing circle) or MODEL_PARALLEL (rays from C + e (ipd/2) R).
+    model: u32,
 }
 
 struct Ray {
@@ -41,12 +43,25 @@ fn circle_radius(v: View, phi: f32) -> f32 {
     return v.half_ipd * pole_merging_factor(v.north, v.south, phi);
 }
 
+// True for a parallel camera's eye (every ray starts at `parallel_camera`).
+fn is_parallel_eye(v: View) -> bool {
+    return v.model == MODEL_PARALLEL && v.eye_sign != 0.0;
+}
+
+// The parallel camera of this eye relative to C, e (ipd/2) R (zero for mono).
+fn parallel_camera(v: View) -> vec3<f32> {
+    return v.eye_sign * v.half_ipd * v.basis.right;
+}
+
 // The ray of (lam, phi): origin relative to C and unit direction.
 fn ray(v: View, lam: f32, phi: f32) -> Ray {
     let b = v.basis;
     let dir = direction(b, lam, phi);
     if v.eye_sign == 0.0 {
         return Ray(vec3<f32>(0.0), dir);
+    }
+    if v.model == MODEL_PARALLEL {
+        return Ray(parallel_camera(v), dir);
     }
     let sl = sin(lam);
     let cl = cos(lam);
@@ -105,26 +120,35 @@ fn solve_circle_radius(v: View, rho: f32, z: f32) -> f32 {
 // its first test (the point lies inside the viewing circle).
 fn has_projection(v: View, p: vec3<f32>) -> bool {
     let b = v.basis;
-    let x = dot(p, b.right);
-    let y = dot(p, b.forward);
-    let z = dot(p, b.up);
+    var q = p;
+    if is_parallel_eye(v) {
+        q = p - parallel_camera(v);
+    }
+    let x = dot(q, b.right);
+    let y = dot(q, b.forward);
+    let z = dot(q, b.up);
     let rho = length(vec2<f32>(x, y));
-    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != OFFSET_EXACT {
+    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != OFFSET_EXACT
+        || v.model == MODEL_PARALLEL {
         return !(rho == 0.0 && z == 0.0);
     }
     return !(circle_radius(v, latitude_for_radius(rho, z, rho)) > rho);
 }
 
 // Longitude and latitude of point `p` (relative to C) in this view; not ok when `p` has no
-// projection (inside the viewing circle, or at C).
+// projection (inside the viewing circle, or at C; for a parallel eye, at its camera).
 fn project(v: View, p: vec3<f32>) -> Projected {
     let b = v.basis;
-    let x = dot(p, b.right);
-    let y = dot(p, b.forward);
-    let z = dot(p, b.up);
+    var q = p;
+    if is_parallel_eye(v) {
+        q = p - parallel_camera(v);
+    }
+    let x = dot(q, b.right);
+    let y = dot(q, b.forward);
+    let z = dot(q, b.up);
     let rho = length(vec2<f32>(x, y));
     let lam_c = atan2(x, y);
-    if v.eye_sign == 0.0 || v.half_ipd == 0.0 {
+    if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.model == MODEL_PARALLEL {
         if rho == 0.0 && z == 0.0 {
             return Projected(vec2<f32>(0.0), false);
         }

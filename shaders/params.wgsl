@@ -43,11 +43,32 @@ struct Params {
     projection: u32,
     projection_a: vec4<f32>,
     projection_b: vec4<f32>,
+    // MODEL_ODS or MODEL_PARALLEL: where the eye's rays start.
+    eye_model: u32,
+    // `--depth-map` breakpoints B and distances D, packed as depth_map.wgsl takes them;
+    // `depth_map_count` pairs, 0 without a map.
+    depth_map_b: array<vec4<f32>, 2>,
+    depth_map_d: array<vec4<f32>, 2>,
+    depth_map_count: u32,
 }
 
 fn view_of(p: Params) -> View {
     return View(Basis(p.forward, p.right, p.up), p.eye_sign, p.half_ipd, p.north, p.south,
-                p.ods_offset);
+                p.ods_offset, p.eye_model);
+}
+
+// The view the sphere centred at `centre` (relative to C) is seen in: under a depth map its
+// own half-ipd r_s = depth_map_ods_radius(ipd/2, rho_c), rho_c the centre's horizontal
+// distance from C (DESIGN §9); the eye's view otherwise.
+fn sphere_view(p: Params, centre: vec3<f32>) -> View {
+    var v = view_of(p);
+    if p.depth_map_count > 0u {
+        let b = v.basis;
+        let rho_c = length(vec2<f32>(dot(centre, b.right), dot(centre, b.forward)));
+        v.half_ipd = depth_map_ods_radius(p.depth_map_b, p.depth_map_d, p.depth_map_count,
+                                          p.half_ipd, rho_c);
+    }
+    return v;
 }
 
 fn projection_of(p: Params) -> Projection {

@@ -1,7 +1,7 @@
 // Test kernel: evaluates the shared math (ods.wgsl, pole_merge.wgsl, sphere_bounds.wgsl,
 // projection.wgsl, image_bounds.wgsl, sphere.wgsl, shading.wgsl) on given inputs so the Rust
 // tests can compare it with the f64 reference. Prepended: camera, equirect, pole_merge, ods,
-// projection, params, sphere_bounds, image_bounds, sphere, shading.
+// depth_map, projection, params, sphere_bounds, image_bounds, sphere, shading.
 
 // One item's inputs; laid out as `ProbeItem` in src/raster/probe.rs. Positions are relative
 // to C.

@@ -45,12 +45,16 @@ fn cap_rect(b: Basis, s: vec3<f32>, radius: f32) -> Rect {
 // Conservative box of every (lam, phi) whose ray (this eye) hits the sphere (s, radius).
 // Exact-inverse argument: a hit X projects to its pixel, lam(X) = lamC(X) - e asin(r/rho(X)),
 // tan phi(X) = k tan phiC(X) with k = rho / sqrt(rho^2 - r^2); bound each factor over the ball.
-fn sphere_bounds(v: View, s: vec3<f32>, radius: f32) -> Bounds {
-    let d = length(s);
+fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
+    var s = centre;
     var h = 0.0;
-    if v.eye_sign != 0.0 {
+    if is_parallel_eye(v) {
+        // One camera for every ray: the mono box seen from it.
+        s = centre - parallel_camera(v);
+    } else if v.eye_sign != 0.0 {
         h = v.half_ipd;
     }
+    let d = length(s);
     if d <= (radius + h) * (1.0 + 1e-5) + 1e-6 {
         return Bounds(full_rect(), true);
     }

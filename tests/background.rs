@@ -62,6 +62,7 @@ fn the_default_output_is_the_plain_render_byte_for_byte() {
         shading: Shading::Unlit,
         proxy: Proxy::default(),
         imposter: Imposter::default(),
+        depth_map: None,
     };
     let rendered = raytrace::render(&prepared.scene, &settings, &ProgressBar::hidden()).unwrap();
     for ext in ["png", "jpg", "exr"] {

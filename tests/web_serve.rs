@@ -232,6 +232,7 @@ fn a_render_is_the_library_render_at_the_camera_it_reports() {
         shading: Shading::Unlit,
         proxy: Proxy::default(),
         imposter: Imposter::default(),
+        depth_map: None,
     };
     let rasterizer = Rasterizer::new().unwrap();
     let (rendered, _) = rasterizer

@@ -1,7 +1,7 @@
 //! The WGSL math agrees with the f64 Rust functions it mirrors, through the probe kernel
 //! (`shaders/probe.wgsl`): `project`, `ray` and the merge factor (`ods.wgsl`,
-//! `pole_merge.wgsl`, `equirect.wgsl`) on random points and angles, for mono and ODS views
-//! with each merge profile and both offsets; `intersect_sphere` (`sphere.wgsl`), `shade`
+//! `pole_merge.wgsl`, `equirect.wgsl`) on random points and angles, for mono, parallel and
+//! ODS views with each merge profile and both offsets; `intersect_sphere` (`sphere.wgsl`), `shade`
 //! (`shading.wgsl`) and `sphere_bounds` (`sphere_bounds.wgsl`) on random inputs. Each test
 //! prints its worst difference.
 //!
@@ -21,7 +21,7 @@ mod raster_common;
 
 use glam::{DVec2, DVec3, Vec3};
 use omnicloud::projection::{
-    Camera, Eye, OdsOffset, PoleMerge, PoleMerging, Stereo, View, equirect, sphere_bounds,
+    Camera, Eye, EyeModel, OdsOffset, PoleMerge, PoleMerging, Stereo, View, equirect, sphere_bounds,
 };
 use omnicloud::raster::probe::ProbeItem;
 use omnicloud::raytrace::sphere;
@@ -37,7 +37,10 @@ const T_TOL: f64 = 2e-6;
 const BOUNDS_TOL: f64 = 5e-5;
 
 fn cases() -> Vec<(String, Stereo)> {
-    let mut v = vec![("mono".to_string(), Stereo::Mono)];
+    let mut v = vec![
+        ("mono".to_string(), Stereo::Mono),
+        ("parallel".to_string(), Stereo::Parallel { ipd: 0.064 }),
+    ];
     for (name, merging) in [
         ("off", PoleMerging::OFF),
         ("marrinan", PoleMerging::both(PoleMerge::COMFORTABLE)),
@@ -109,7 +112,9 @@ fn wgsl_project_ray_and_merge_match_rust() {
                 // to (such points are centimetres from the eye).
                 let z = p.z;
                 let r = view.solve_circle_radius(rho, z).unwrap_or(rho);
-                let near_circle = view.offset == OdsOffset::Exact && r >= 0.99 * rho;
+                let near_circle = view.model == EyeModel::Ods
+                    && view.offset == OdsOffset::Exact
+                    && r >= 0.99 * rho;
                 match (want, got[i].projected) {
                     (Some(_), Some(_)) if near_circle => skipped += 1,
                     (Some((wl, wp)), Some((gl, gp))) => {
@@ -392,12 +397,12 @@ fn near_a_branch_test(view: &View, s: DVec3, r: f64) -> bool {
         ABSOLUTE_SLACK, AXIS_SLACK, CYLINDER_SLACK, ENCLOSE_SLACK,
     };
     let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-5 * scale;
-    let h = if view.eye_sign != 0.0 {
-        view.half_ipd
-    } else {
-        0.0
-    };
     let b = view.basis();
+    // A parallel eye is the mono view from its camera.
+    let (s, h) = match view.model {
+        EyeModel::Parallel => (s - view.eye_sign * view.half_ipd * b.right, 0.0),
+        EyeModel::Ods => (s, view.half_ipd * view.eye_sign.abs()),
+    };
     let rho = s.dot(b.right).hypot(s.dot(b.forward));
     let d = s.length();
     close(d, (r + h) * (1.0 + ENCLOSE_SLACK) + ABSOLUTE_SLACK, d)

@@ -1,6 +1,7 @@
 //! What a benchmark run does: which modes, how many frames, what size.
 
 use crate::projection::Stereo;
+use crate::projection::depth_map::DepthMap;
 
 use super::mode::BenchMode;
 
@@ -18,6 +19,8 @@ pub struct BenchConfig {
     /// Mono/ODS override, pole merging and ODS offset included; `None` keeps the base
     /// settings' (or the manifest's) stereo.
     pub stereo: Option<Stereo>,
+    /// `--depth-map` (with ODS); `None` keeps the base settings' map.
+    pub depth_map: Option<DepthMap>,
     /// Rasterizer modes to measure, in table order.
     pub modes: Vec<BenchMode>,
     /// Frames rendered and discarded before timing (pipeline creation, caches, clocks).
@@ -32,6 +35,7 @@ impl Default for BenchConfig {
         BenchConfig {
             width: None,
             stereo: None,
+            depth_map: None,
             modes: BenchMode::all(),
             warmup_frames: 2,
             timed_frames: 5,

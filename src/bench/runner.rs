@@ -16,7 +16,8 @@ use super::accuracy::measure;
 use super::config::BenchConfig;
 use super::report::{BenchReport, ModeResult, ModeStats, ReferenceRun, TimingKind};
 
-/// The settings a benchmark renders with: `base` with the config's width and stereo overrides.
+/// The settings a benchmark renders with: `base` with the config's width, stereo and depth-map
+/// overrides.
 pub fn bench_settings(base: &RenderSettings, config: &BenchConfig) -> RenderSettings {
     let mut s = *base;
     if let Some(w) = config.width {
@@ -24,6 +25,9 @@ pub fn bench_settings(base: &RenderSettings, config: &BenchConfig) -> RenderSett
     }
     if let Some(stereo) = config.stereo {
         s.stereo = stereo;
+    }
+    if config.depth_map.is_some() {
+        s.depth_map = config.depth_map;
     }
     s
 }

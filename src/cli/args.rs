@@ -11,6 +11,7 @@ use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
 use crate::prepare::{
     CameraChoice, LodChoice, PointFilter, PrepareOptions, RadiusChoice, Subsample,
 };
+use crate::projection::depth_map::DepthMap;
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Projection, Stereo, StereoKind};
 use crate::render::{Background, ColorMode, Edl, Imposter, Look, Proxy, RendererKind, Shading};
 
@@ -94,6 +95,12 @@ pub struct ViewArgs {
     /// Rasterizer ODS inverse (with --stereo ods).
     #[arg(long, value_enum, ignore_case = true, default_value = "exact")]
     pub ods_offset: OdsOffset,
+    /// Depth budget (with --stereo ods): B0=D0,...,Bn=Dn in metres, both increasing. A
+    /// sphere whose centre lies Bi away horizontally is shown with the disparity of a point
+    /// Di away (interpolated in 1/distance between pairs, scaled down beyond Bn); e.g. 0.5=1.5
+    /// shows nothing nearer than 1.5 m. Identity pairs (B=D) are plain ODS.
+    #[arg(long, value_name = "B0=D0,...")]
+    pub depth_map: Option<DepthMap>,
     /// Sphere radius in metres, `auto` (half the median point spacing) or `adaptive[:K]`
     /// (per point, from K nearest neighbours, default K 8). Default: the file's per-point
     /// `radius` when it has one, else adaptive:8.
@@ -140,6 +147,20 @@ impl ViewArgs {
                 offset: self.ods_offset,
             },
         })
+    }
+
+    /// `--depth-map`, checked against `--stereo`.
+    ///
+    /// # Errors
+    /// A depth map without `--stereo ods`.
+    pub fn depth_map(&self) -> anyhow::Result<Option<DepthMap>> {
+        match (self.depth_map, self.stereo) {
+            (Some(map), kind) if kind != Some(StereoKind::Ods) => anyhow::bail!(
+                "--depth-map {map} sets per-sphere ODS radii: it needs --stereo ods, not {}",
+                kind.unwrap_or_default()
+            ),
+            (map, _) => Ok(map),
+        }
     }
 
     /// The camera at `center` (local frame) with `--yaw`, `--pitch` and `--roll`.
@@ -558,6 +579,46 @@ mod tests {
         assert_eq!(b.width, None);
         // Without --stereo the manifest (or, for a scan, mono) decides.
         assert_eq!(bench(&["--suite", "dir"]).view.stereo_mode(), None);
+    }
+
+    #[test]
+    fn the_depth_map_needs_ods_stereo() {
+        let view = |extra: &[&str]| {
+            let argv = ["omnicloud", "render", "s.laz", "-o", "x.png"]
+                .iter()
+                .chain(extra);
+            let Command::Render(r) = Cli::try_parse_from(argv).unwrap().command else {
+                panic!("not render")
+            };
+            r.view
+        };
+        let map = view(&["--stereo", "ods", "--depth-map", "0.5=1.5,2=3"])
+            .depth_map()
+            .unwrap()
+            .unwrap();
+        assert_eq!(map.to_string(), "0.5=1.5,2=3");
+        assert_eq!(view(&["--stereo", "ods"]).depth_map().unwrap(), None);
+        for (extra, named) in [
+            (&["--depth-map", "0.5=1.5"][..], "not none"),
+            (
+                &["--stereo", "parallel", "--depth-map", "0.5=1.5"],
+                "not parallel",
+            ),
+        ] {
+            let e = view(extra).depth_map().unwrap_err().to_string();
+            assert!(e.contains("needs --stereo ods") && e.contains(named), "{e}");
+        }
+        let argv = [
+            "omnicloud",
+            "render",
+            "s.laz",
+            "-o",
+            "x.png",
+            "--depth-map",
+            "2=1,1=3",
+        ];
+        let e = Cli::try_parse_from(argv).unwrap_err().to_string();
+        assert!(e.contains("pair 2 `1=3`: B must be greater"), "{e}");
     }
 
     #[test]

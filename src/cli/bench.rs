@@ -19,6 +19,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let config = BenchConfig {
         width: args.width,
         stereo: args.view.stereo_mode(),
+        depth_map: args.view.depth_map()?,
         modes: args.modes.clone().unwrap_or_else(bench::BenchMode::all),
         warmup_frames: args.warmup,
         timed_frames: args.frames as usize,

@@ -97,6 +97,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         shading: args.shading,
         proxy: args.proxy,
         imposter: args.imposter,
+        depth_map: args.view.depth_map()?,
     };
     let render_start = Instant::now();
     let rendered = match (args.origin, args.renderer) {

@@ -211,6 +211,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
         shading: args.shading,
         proxy: args.proxy,
         imposter: args.imposter,
+        depth_map: args.view.depth_map()?,
     };
     let options = RunOptions {
         settings,
@@ -392,6 +393,9 @@ fn render_command(args: &TourArgs) -> Vec<String> {
             "--ods-offset={}",
             name(&|| view.ods_offset.to_possible_value())
         ));
+        if let Some(map) = view.depth_map {
+            a.push(format!("--depth-map={map}"));
+        }
     }
     if let Some(r) = args.view.radius {
         a.push(format!("--radius={r}"));
@@ -528,6 +532,8 @@ mod tests {
             "512",
             "--color",
             "elevation",
+            "--depth-map",
+            "0.5=1.5,4=6.25",
         ]);
         let mut argv = render_command(&t);
         argv.extend(["-o".into(), "x.png".into(), "--yaw=-12.5".into()]);
@@ -535,6 +541,8 @@ mod tests {
             panic!("not render")
         };
         assert_eq!(r.view.stereo_mode(), t.view.stereo_mode());
+        assert_eq!(r.view.depth_map().unwrap(), t.view.depth_map().unwrap());
+        assert!(r.view.depth_map.is_some());
         assert_eq!(r.view.radius, t.view.radius);
         assert_eq!((r.proxy, r.width, r.color), (t.proxy, 512, t.color));
         assert_eq!(

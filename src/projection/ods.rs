@@ -3,6 +3,7 @@
 use glam::DVec3;
 
 use super::camera::{Basis, Camera};
+use super::depth_map::DepthMap;
 use super::equirect::{self, Equirect};
 use super::image::{Image, Projection};
 use super::pole_merge::PoleMerging;
@@ -196,6 +197,10 @@ pub struct View {
     pub offset: OdsOffset,
     /// How the eye's rays start: on the viewing circle or at a parallel camera.
     pub model: EyeModel,
+    /// `--depth-map` (DESIGN §9): each sphere is seen in its own view
+    /// ([`View::for_sphere`]); `None` for plain ODS, mono, parallel and identity maps. The
+    /// other methods ignore it and use `half_ipd`.
+    pub depth_map: Option<DepthMap>,
     basis: Basis,
 }
 
@@ -224,6 +229,7 @@ impl View {
             merging: PoleMerging::OFF,
             offset: OdsOffset::Exact,
             model: EyeModel::Ods,
+            depth_map: None,
             basis: camera.basis(),
         }
     }
@@ -243,6 +249,7 @@ impl View {
                 merging,
                 offset,
                 model: EyeModel::Ods,
+                depth_map: None,
                 basis: camera.basis(),
             },
             Stereo::Parallel { ipd } | Stereo::Cubemap { ipd, .. } => View {
@@ -252,6 +259,7 @@ impl View {
                 merging: PoleMerging::OFF,
                 offset: OdsOffset::Exact,
                 model: EyeModel::Parallel,
+                depth_map: None,
                 basis: camera.basis(),
             },
         }
@@ -260,6 +268,52 @@ impl View {
     /// The camera frame.
     pub fn basis(&self) -> &Basis {
         &self.basis
+    }
+
+    /// This view under `map`: kept for an ODS eye when the map is not the identity (identity
+    /// pairs give plain ODS exactly, DESIGN §9), dropped otherwise.
+    pub fn with_depth_map(self, map: Option<DepthMap>) -> Self {
+        let ods_eye = self.model == EyeModel::Ods && self.eye_sign != 0.0;
+        View {
+            depth_map: map.filter(|m| ods_eye && !m.is_identity()),
+            ..self
+        }
+    }
+
+    /// Half-ipd `r_s` of the sphere centred at `centre` (DESIGN §9): the depth map's
+    /// `ods_radius(ipd/2, rho_c)`, `rho_c` the centre's horizontal distance from C in the
+    /// rig frame; `half_ipd` without a map.
+    pub fn sphere_half_ipd(&self, centre: DVec3) -> f64 {
+        let Some(map) = self.depth_map else {
+            return self.half_ipd;
+        };
+        let v = centre - self.camera.center;
+        let rho_c = v.dot(self.basis.right).hypot(v.dot(self.basis.forward));
+        map.ods_radius(self.half_ipd, rho_c)
+    }
+
+    /// The view the sphere centred at `centre` is seen in: plain ODS with half-ipd
+    /// [`View::sphere_half_ipd`] (this view itself without a depth map).
+    pub fn for_sphere(&self, centre: DVec3) -> View {
+        View {
+            half_ipd: self.sphere_half_ipd(centre),
+            depth_map: None,
+            ..*self
+        }
+    }
+
+    /// The largest [`View::sphere_half_ipd`] of any sphere: `r_s` is `rho_c s(D0)` up to
+    /// `B0`, affine in `rho_c` between breakpoints and constant beyond `Bn`, so its maximum
+    /// is at a breakpoint.
+    pub fn max_sphere_half_ipd(&self) -> f64 {
+        match self.depth_map {
+            None => self.half_ipd,
+            Some(map) => map
+                .breakpoints()
+                .iter()
+                .map(|&b| map.ods_radius(self.half_ipd, b))
+                .fold(0.0, f64::max),
+        }
     }
 
     /// Viewing-circle radius `r(phi) = (ipd / 2) * merge(phi)`.
@@ -283,10 +337,21 @@ impl View {
         if self.model == EyeModel::Parallel {
             return (self.parallel_camera(), dir);
         }
-        let (sl, cl) = lam.sin_cos();
-        let side = cl * b.right - sl * b.forward;
-        let origin = self.camera.center + self.eye_sign * self.circle_radius(phi) * side;
+        let origin = self.circle_origin(self.circle_radius(phi), self.side(lam));
         (origin, dir)
+    }
+
+    /// `side(lam) = cos(lam) R - sin(lam) F`: horizontal, to the right of longitude `lam`.
+    #[inline]
+    pub fn side(&self, lam: f64) -> DVec3 {
+        let (sl, cl) = lam.sin_cos();
+        cl * self.basis.right - sl * self.basis.forward
+    }
+
+    /// ODS ray origin `C + e r side` on the viewing circle of radius `r` (DESIGN §3).
+    #[inline]
+    pub fn circle_origin(&self, r: f64, side: DVec3) -> DVec3 {
+        self.camera.center + self.eye_sign * r * side
     }
 
     /// The ray through the centre of pixel `(i, j)` of the equirectangular `image`.
@@ -440,6 +505,38 @@ mod tests {
         let side = cam.center + 10.0 * cam.basis().right;
         let r = View::eye(cam, &Stereo::Parallel { ipd: 0.064 }, Eye::Right);
         assert_eq!(v.project(side).unwrap().0, r.project(side).unwrap().0);
+    }
+
+    #[test]
+    fn a_depth_map_gives_each_sphere_its_own_half_ipd() {
+        let cam = Camera::new(DVec3::new(1.0, 2.0, 3.0), 30.0).with_orientation(10.0, 5.0);
+        let map: DepthMap = "0.5=1.5,2=3".parse().unwrap();
+        let stereo = ods(PoleMerging::both(PoleMerge::COMFORTABLE));
+        let right = View::eye(cam, &stereo, Eye::Right).with_depth_map(Some(map));
+        assert_eq!(right.depth_map, Some(map));
+        // Horizontal distance in the rig frame: 4 m ahead, 3 m up the rig's up axis.
+        let b = cam.basis();
+        let c = cam.center + 4.0 * b.forward + 3.0 * b.up;
+        let r_s = right.sphere_half_ipd(c);
+        assert!((r_s - map.ods_radius(0.032, 4.0)).abs() < 1e-15);
+        let own = right.for_sphere(c);
+        assert_eq!((own.half_ipd, own.depth_map), (r_s, None));
+        // The largest radius any sphere gets is a * Bi / Di at a breakpoint.
+        let max = right.max_sphere_half_ipd();
+        assert!((max - 0.032 * 2.0 / 3.0).abs() < 1e-15);
+        for k in 0..2000 {
+            let rho = 0.001 * 1.005f64.powi(k);
+            assert!(right.sphere_half_ipd(cam.center + rho * b.right) <= max * (1.0 + 1e-12));
+        }
+        // Identity maps, mono and parallel views keep no map.
+        let identity: DepthMap = "0.01=0.01,1000=1000".parse().unwrap();
+        let plain = View::eye(cam, &stereo, Eye::Left);
+        assert_eq!(plain.with_depth_map(Some(identity)), plain);
+        assert_eq!(View::mono(cam).with_depth_map(Some(map)).depth_map, None);
+        let par = View::eye(cam, &Stereo::Parallel { ipd: 0.064 }, Eye::Left);
+        assert_eq!(par.with_depth_map(Some(map)).depth_map, None);
+        // Without a map every sphere sees the eye's view.
+        assert_eq!(plain.for_sphere(c), plain);
     }
 
     #[test]

@@ -102,20 +102,22 @@ pub fn cap_rect(b: &Basis, s: DVec3, radius: f64) -> Rect {
     }
 }
 
-/// Conservative box of every `(lam, phi)` whose ray (view `v`) hits the sphere (`s`
-/// relative to C, `radius`).
+/// Conservative box of every `(lam, phi)` whose ray (view `v`) hits the sphere (`centre`
+/// relative to C, `radius`). A parallel eye sees it as the mono view from its camera does.
 ///
 /// Exact-inverse argument: a hit `X` projects to its pixel,
 /// `lam(X) = lamC(X) - e asin(r/rho(X))`, `tan phi(X) = k tan phiC(X)` with
 /// `k = rho / sqrt(rho^2 - r^2)`; bound each factor over the ball.
-pub fn sphere_bounds(v: &View, s: DVec3, radius: f64) -> Bounds {
-    if v.model == EyeModel::Parallel && v.eye_sign != 0.0 {
+pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
+    let (s, h) = if v.model == EyeModel::Parallel && v.eye_sign != 0.0 {
         // One camera for every ray: the mono box seen from it.
-        let camera = v.eye_sign * v.half_ipd * v.basis().right;
-        return sphere_bounds(&View::mono(v.camera), s - camera, radius);
-    }
+        (centre - v.eye_sign * v.half_ipd * v.basis().right, 0.0)
+    } else if v.eye_sign != 0.0 {
+        (centre, v.half_ipd)
+    } else {
+        (centre, 0.0)
+    };
     let d = s.length();
-    let h = if v.eye_sign != 0.0 { v.half_ipd } else { 0.0 };
     if d <= (radius + h) * (1.0 + ENCLOSE_SLACK) + ABSOLUTE_SLACK {
         return Bounds {
             rect: Rect::full(),

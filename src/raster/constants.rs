@@ -109,6 +109,11 @@ shared_constants! {
     /// `Params::ods_offset`: the paper's per-vertex offset.
     OFFSET_PAPER: u32 = 1;
 
+    /// `Params::eye_model`: rays on the viewing circle (ODS; mono when the eye sign is 0).
+    MODEL_ODS: u32 = 0;
+    /// `Params::eye_model`: every ray of an eye starts at its parallel camera.
+    MODEL_PARALLEL: u32 = 1;
+
     /// Counters per eye in the statistics buffer (one [`EyeStats`]).
     STATS_PER_EYE: u32 = stat(size_of::<EyeStats>());
     /// Counter index of [`EyeStats::culled`].

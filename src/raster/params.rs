@@ -5,14 +5,15 @@ use std::f64::consts::{PI, TAU};
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 
-use crate::projection::{MapFrame, OdsOffset, PoleMerge, Projection, View};
+use crate::projection::{EyeModel, MapFrame, OdsOffset, PoleMerge, Projection, View};
 use crate::render::shading::{Shading, lights};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::constants::{
     DEPTH_FAR, DEPTH_NEAR, IMPOSTER_RAYCAST, IMPOSTER_SPRITE, MERGE_CYCLES, MERGE_MARRINAN,
-    MERGE_OFF, OFFSET_EXACT, OFFSET_PAPER, PROJ_CUBEMAP, PROJ_CYLINDRICAL, PROJ_EQUIRECT,
-    PROJ_EQUIRECT_FULL, PROJ_FISHEYE, PROJ_HAMMER, PROJ_MAP, PROXY_BOUNDS, PROXY_DYNAMIC,
+    MERGE_OFF, MODEL_ODS, MODEL_PARALLEL, OFFSET_EXACT, OFFSET_PAPER, PROJ_CUBEMAP,
+    PROJ_CYLINDRICAL, PROJ_EQUIRECT, PROJ_EQUIRECT_FULL, PROJ_FISHEYE, PROJ_HAMMER, PROJ_MAP,
+    PROXY_BOUNDS, PROXY_DYNAMIC,
     PROXY_QUAD, PROXY_STATIC,
 };
 
@@ -117,6 +118,18 @@ pub struct Params {
     pub projection_a: [f32; 4],
     /// More of them (the map's ray height).
     pub projection_b: [f32; 4],
+    /// `MODEL_ODS` or `MODEL_PARALLEL`: where the eye's rays start.
+    pub eye_model: u32,
+    /// Pads `eye_model` to the 16-byte slot `depth_map_b` starts.
+    pub pad_model: [u32; 3],
+    /// `--depth-map` breakpoints, packed ([`crate::projection::depth_map::DepthMap::packed_f32`]).
+    pub depth_map_b: [[f32; 4]; 2],
+    /// `--depth-map` distances, packed.
+    pub depth_map_d: [[f32; 4]; 2],
+    /// Pairs of the view's depth map; 0 without one.
+    pub depth_map_count: u32,
+    /// Pads the block to a multiple of 16 bytes.
+    pub pad_end: [u32; 3],
 }
 
 /// Tessellation level of a static proxy (1 for quad and bounds).
@@ -143,6 +156,9 @@ impl Params {
         let ls = lights(&settings.camera);
         let c = settings.camera.center;
         let light = |i: usize| v3(ls[i].position.as_dvec3() - c);
+        let (depth_map_b, depth_map_d) = view
+            .depth_map
+            .map_or(([[0.0; 4]; 2], [[0.0; 4]; 2]), |m| m.packed_f32());
         Params {
             forward: v3(b.forward),
             eye_sign: view.eye_sign as f32,
@@ -188,6 +204,15 @@ impl Params {
             projection: 0,
             projection_a: [0.0; 4],
             projection_b: [0.0; 4],
+            eye_model: match view.model {
+                EyeModel::Ods => MODEL_ODS,
+                EyeModel::Parallel => MODEL_PARALLEL,
+            },
+            pad_model: [0; 3],
+            depth_map_b,
+            depth_map_d,
+            depth_map_count: view.depth_map.map_or(0, |m| m.len() as u32),
+            pad_end: [0; 3],
         }
         .with_projection(&settings.image.projection, settings.camera.center)
     }
@@ -247,9 +272,12 @@ mod tests {
             north, south, image_size, depth_near, depth_far, light0_position, light0_intensity,
             light1_position, light1_intensity, ods_offset, proxy, imposter, shading,
             static_level, batch_count, batch_first, vertex_capacity, eye, camera_offset,
-            projection, projection_a, projection_b);
-        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 224));
-        assert_eq!(size_of::<Params>(), 224);
+            projection, projection_a, projection_b, eye_model, depth_map_b, depth_map_d,
+            depth_map_count);
+        // The WGSL struct ends at `depth_map_count` and rounds its size up to 16 bytes; Rust
+        // pads.
+        assert_eq!(wgsl_struct_layout(&source, "Params"), (rust, 320));
+        assert_eq!(size_of::<Params>(), 320);
 
         let rust = field_offsets!(GpuPoleMerge: kind, a, b, c);
         let size = size_of::<GpuPoleMerge>() as u32;

@@ -7,7 +7,7 @@ use indicatif::ProgressBar;
 
 use crate::frame::{Frame, Rendered};
 use crate::projection::View;
-use crate::render::{Proxy, RenderSettings};
+use crate::render::{Proxy, RenderSettings, cubemap_stereo};
 
 use super::chunk::GpuChunk;
 use super::error::RasterError;
@@ -27,7 +27,10 @@ const MAX_EYES: usize = 2;
 /// for chunks of up to `max_chunk_points` points.
 pub struct RasterFrame<'r> {
     rasterizer: &'r Rasterizer,
+    /// What is drawn: `output`, or its cube-map faces.
     settings: RenderSettings,
+    /// What `finish` returns.
+    output: RenderSettings,
     views: Vec<View>,
     targets: Vec<EyeTargets>,
     sizing: FrameSizing,
@@ -50,6 +53,18 @@ impl Rasterizer {
         settings: &RenderSettings,
         max_chunk_points: u64,
     ) -> Result<RasterFrame<'_>, RasterError> {
+        // `--stereo cubemap:N` draws its eyes' cube strips, resampled by `finish`.
+        let output = *settings;
+        let faces = cubemap_stereo::face_settings(&output);
+        let settings = &faces.unwrap_or(output);
+        let sizing = FrameSizing::new(&self.caps(), self.knobs(), settings, max_chunk_points)
+            .map_err(|e| match (faces, e) {
+                (Some(_), RasterError::Settings(m)) => RasterError::Settings(format!(
+                    "--stereo {} draws cube-map faces: {m}",
+                    output.stereo.kind()
+                )),
+                (_, e) => e,
+            })?;
         check_settings(settings)?;
         let ctx = &self.ctx;
         let device = &ctx.device;
@@ -59,7 +74,6 @@ impl Rasterizer {
             .iter()
             .map(|_| EyeTargets::new(ctx, img.width, img.height))
             .collect::<Result<Vec<_>, _>>()?;
-        let sizing = FrameSizing::new(&self.caps(), self.knobs(), settings, max_chunk_points)?;
         // One key buffer, eye after eye; a placeholder binding when the splat is off.
         let splat_keys = ctx.scoped("allocating splat buffers", || {
             splat::key_buffer(device, sizing.splat_key_bytes)
@@ -107,6 +121,7 @@ impl Rasterizer {
         Ok(RasterFrame {
             rasterizer: self,
             settings: *settings,
+            output,
             views,
             targets,
             sizing,
@@ -295,6 +310,11 @@ impl<'r> RasterFrame<'r> {
             Rendered::Stereo { left, right }
         } else {
             Rendered::Mono(frames.pop().expect("one frame"))
+        };
+        let rendered = if self.output == self.settings {
+            rendered
+        } else {
+            cubemap_stereo::resample(&rendered, &self.output)
         };
         Ok((rendered, stats, timing))
     }

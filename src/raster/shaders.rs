@@ -12,6 +12,8 @@ pub const EQUIRECT: &str = include_str!("../../shaders/equirect.wgsl");
 pub const POLE_MERGE: &str = include_str!("../../shaders/pole_merge.wgsl");
 /// `shaders/ods.wgsl`.
 pub const ODS: &str = include_str!("../../shaders/ods.wgsl");
+/// `shaders/depth_map.wgsl`: each sphere's own ODS radius under `--depth-map`.
+pub const DEPTH_MAP: &str = include_str!("../../shaders/depth_map.wgsl");
 /// `shaders/sphere_bounds.wgsl`: the box of a sphere's image.
 pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl");
 /// `shaders/projection.wgsl`: the ray of an image position in each projection.
@@ -31,7 +33,7 @@ pub const SPHERE: &str = include_str!("../../shaders/sphere.wgsl");
 /// ray of an image position), followed by `parts`.
 pub fn compose(parts: &[&str]) -> String {
     let mut s = wgsl_prelude();
-    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, PROJECTION]
+    for p in [CAMERA, EQUIRECT, POLE_MERGE, ODS, DEPTH_MAP, PROJECTION]
         .iter()
         .chain(parts)
     {

@@ -2,8 +2,8 @@
 //! splatted, the vertex and splat-key buffer sizes and the points per expand batch. Pure
 //! functions of the device limits and the request.
 
+use crate::projection::Projection;
 use crate::projection::image_bounds::max_rects;
-use crate::projection::{Projection, Stereo};
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::chunk::GpuPoint;
@@ -109,15 +109,6 @@ impl FrameSizing {
             return Err(RasterError::Settings(
                 "the map projection needs its extent from the scene's bounds (Image::map)".into(),
             ));
-        }
-        if matches!(
-            settings.stereo,
-            Stereo::Parallel { .. } | Stereo::Cubemap { .. }
-        ) {
-            return Err(RasterError::Settings(format!(
-                "the rasterizer does not draw --stereo {}: use --renderer raytrace",
-                settings.stereo.kind()
-            )));
         }
         let img = settings.image;
         let key_bytes = img.width as u64 * img.height as u64 * size_of::<u64>() as u64;

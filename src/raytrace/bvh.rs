@@ -76,6 +76,7 @@ pub struct Tracer {
     bvh: CwBvh,
     spheres: Vec<SphereRecord>,
     build_time: Duration,
+    padding: f64,
 }
 
 impl Tracer {
@@ -87,6 +88,21 @@ impl Tracer {
     /// Builds the BVH over `scene` with the given obvhs build parameters (CWBVH leaves hold
     /// at most 3 spheres whatever `max_prims_per_leaf` says).
     pub fn with_params(scene: &Scene, params: BvhBuildParams) -> Result<Self, RaytraceError> {
+        Self::build(scene, params, 0.0)
+    }
+
+    /// Builds the BVH over `scene` with every sphere's box grown by `padding` metres, for
+    /// [`Tracer::trace_own_rays`] with ray origins up to `padding` from the traversal origin.
+    pub fn padded(scene: &Scene, padding: f64) -> Result<Self, RaytraceError> {
+        Self::build(scene, BvhBuildParams::medium_build(), padding)
+    }
+
+    /// How far ([`Tracer::padded`]) the spheres' boxes were grown, metres.
+    pub fn padding(&self) -> f64 {
+        self.padding
+    }
+
+    fn build(scene: &Scene, params: BvhBuildParams, padding: f64) -> Result<Self, RaytraceError> {
         let start = Instant::now();
         let n = scene.len();
         if u32::try_from(n).is_err() {
@@ -106,8 +122,9 @@ impl Tracer {
             }
             reach = reach.max(p.abs().max_element() + r);
         }
-        let reach = reach.max(1.0);
-        let margin = BOX_MARGIN_RELATIVE * reach;
+        let padding = padding.max(0.0);
+        let reach = reach.max(1.0) + padding as f32;
+        let margin = BOX_MARGIN_RELATIVE * reach + padding as f32;
         let bvh = if n == 0 {
             CwBvh::default()
         } else {
@@ -144,6 +161,7 @@ impl Tracer {
             bvh,
             spheres,
             build_time: start.elapsed(),
+            padding,
         })
     }
 
@@ -189,6 +207,47 @@ impl Tracer {
         self.bvh.ray_traverse(ray, &mut RayHit::none(), |_, id| {
             let s = &self.spheres[id];
             let Some(t) = sphere::intersect(origin, dir, s.center(), s.radius as f64) else {
+                return f32::INFINITY;
+            };
+            let index = self.bvh.primitive_indices[id];
+            if is_closer(t, index, best) {
+                best = Some((t, index));
+                prune_distance(t)
+            } else {
+                f32::INFINITY
+            }
+        });
+        best.map(|(t, index)| Hit {
+            index: index as usize,
+            t,
+        })
+    }
+
+    /// Closest hit when each sphere is seen along its own ray `origin_of(centre) + t dir`
+    /// (a depth map, DESIGN §9), every origin within [`Tracer::padding`] of `center`; `t` is
+    /// measured along the sphere's own ray, ties to the lowest index as [`Tracer::trace`].
+    ///
+    /// Traverses from `center`: a sphere's own hit at `t` lies within the padding of
+    /// `center + t dir`, so the ray from `center` meets its padded box by `t`, and pruning at
+    /// the best own-ray `t` drops no sphere that the exact test would pick.
+    pub fn trace_own_rays(
+        &self,
+        center: DVec3,
+        dir: DVec3,
+        origin_of: impl Fn(DVec3) -> DVec3,
+    ) -> Option<Hit> {
+        let dir = unit(dir)?;
+        if !center.is_finite() || self.spheres.is_empty() {
+            return None;
+        }
+        let ray = Ray::new_inf(Vec3A::from(center.as_vec3()), Vec3A::from(dir.as_vec3()));
+        let mut best: Option<(f64, u32)> = None;
+        self.bvh.ray_traverse(ray, &mut RayHit::none(), |_, id| {
+            let s = &self.spheres[id];
+            let c = s.center();
+            let origin = origin_of(c);
+            debug_assert!((origin - center).length() <= self.padding * (1.0 + 1e-9) + 1e-12);
+            let Some(t) = sphere::intersect(origin, dir, c, s.radius as f64) else {
                 return f32::INFINITY;
             };
             let index = self.bvh.primitive_indices[id];
@@ -289,6 +348,69 @@ mod tests {
         assert!(e.to_string().contains("point 1"), "{e}");
         let scene = Scene::new(DVec3::ZERO, vec![Vec3::ZERO], -0.1);
         assert!(Tracer::new(&scene).is_err());
+    }
+
+    #[test]
+    fn own_rays_through_a_padded_bvh_equal_testing_every_sphere() {
+        use crate::rng::SplitMix64;
+        let mut rng = SplitMix64::new(7);
+        let mut pts = Vec::new();
+        let mut radii = Vec::new();
+        for _ in 0..3000 {
+            let d = 10f64.powf(rng.range(-0.5, 1.5));
+            let dir = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            );
+            pts.push((d * dir.normalize_or(DVec3::Y)).as_vec3());
+            radii.push((rng.range(0.005, 0.05) * d) as f32);
+        }
+        let scene = Scene {
+            radii: crate::scene::Radii::PerPoint(radii),
+            ..Scene::new(DVec3::ZERO, pts, 0.1)
+        };
+        let pad = 0.2;
+        let tracer = Tracer::padded(&scene, pad).unwrap();
+        assert_eq!(tracer.padding(), pad);
+        // Each sphere's own origin: up to `pad` from C along a side vector, by its distance.
+        let side = DVec3::new(0.6, -0.8, 0.0);
+        let origin_of = |c: DVec3| pad * (c.length() / 40.0).min(1.0) * side;
+        let (mut hits, mut differ_from_c) = (0, 0);
+        for _ in 0..3000 {
+            let dir = DVec3::new(
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+                rng.range(-1.0, 1.0),
+            )
+            .normalize_or(DVec3::Y);
+            let got = tracer.trace_own_rays(DVec3::ZERO, dir, origin_of);
+            // The direction as the tracer normalises it.
+            let dir = unit(dir).unwrap();
+            let mut want: Option<(f64, u32)> = None;
+            for (i, p) in scene.positions.iter().enumerate() {
+                let c = p.as_dvec3();
+                let r = scene.radii.get(i) as f64;
+                if let Some(t) = sphere::intersect(origin_of(c), dir, c, r)
+                    && is_closer(t, i as u32, want)
+                {
+                    want = Some((t, i as u32));
+                }
+            }
+            let want = want.map(|(t, i)| Hit {
+                index: i as usize,
+                t,
+            });
+            assert_eq!(got, want, "dir {dir}");
+            hits += got.is_some() as u32;
+            differ_from_c +=
+                (got.map(|h| h.index) != tracer.trace(DVec3::ZERO, dir).map(|h| h.index)) as u32;
+        }
+        // Enough hits to judge, and the own rays matter.
+        assert!(
+            hits > 1000 && differ_from_c > 10,
+            "{hits} hits, {differ_from_c} differ"
+        );
     }
 
     #[test]

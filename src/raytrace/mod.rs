@@ -11,7 +11,7 @@ pub mod render;
 pub mod sphere;
 
 pub use bvh::{BvhBuildParams, Hit, Tracer, TracerMemory, trace_brute_force};
-pub use render::{render, render_with_tracer};
+pub use render::{padding_for, render, render_with_tracer};
 
 use crate::render::color::MissingAttribute;
 

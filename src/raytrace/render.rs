@@ -5,7 +5,7 @@ use indicatif::ProgressBar;
 use rayon::prelude::*;
 
 use super::RaytraceError;
-use super::bvh::Tracer;
+use super::bvh::{Hit, Tracer};
 use super::sphere;
 use crate::frame::{Frame, Rendered};
 use crate::projection::{Image, View};
@@ -24,12 +24,24 @@ pub fn render(
     progress: &ProgressBar,
 ) -> Result<Rendered, RaytraceError> {
     check_image(&settings.image)?;
-    let tracer = Tracer::new(scene)?;
+    let tracer = Tracer::padded(scene, padding_for(settings))?;
     render_with_tracer(&tracer, scene, settings, progress)
 }
 
+/// The box padding ([`Tracer::padded`]) a tracer needs to render `settings`: the largest
+/// sphere half-ipd of a depth map ([`View::max_sphere_half_ipd`]), 0 without one.
+pub fn padding_for(settings: &RenderSettings) -> f64 {
+    settings
+        .views()
+        .iter()
+        .filter(|v| v.depth_map.is_some())
+        .map(View::max_sphere_half_ipd)
+        .fold(0.0, f64::max)
+}
+
 /// Renders with a prebuilt [`Tracer`] (built from this `scene`), so that several frames
-/// share one BVH.
+/// share one BVH; one padded too little for a depth map ([`padding_for`]) is rebuilt for
+/// this frame.
 pub fn render_with_tracer(
     tracer: &Tracer,
     scene: &Scene,
@@ -42,6 +54,11 @@ pub fn render_with_tracer(
             tracer: tracer.len(),
             scene: scene.len(),
         });
+    }
+    let padding = padding_for(settings);
+    if tracer.padding() < padding {
+        let padded = Tracer::padded(scene, padding)?;
+        return render_with_tracer(&padded, scene, settings, progress);
     }
     if let Some(faces) = cubemap_stereo::face_settings(settings) {
         let strips = render_with_tracer(tracer, scene, &faces, progress)?;
@@ -101,10 +118,13 @@ impl Target<'_> {
             .enumerate()
             .for_each(|(j, (colors, depths))| {
                 for (i, (color, depth)) in colors.iter_mut().zip(depths.iter_mut()).enumerate() {
-                    let Some((origin, dir)) = view.image_ray(image, i as u32, j as u32) else {
-                        continue;
+                    let shaded = if view.depth_map.is_some() {
+                        self.shade_mapped(view, image, i as u32, j as u32)
+                    } else {
+                        view.image_ray(image, i as u32, j as u32)
+                            .and_then(|(origin, dir)| self.shade_ray(origin, dir))
                     };
-                    if let Some((rgb, t)) = self.shade_ray(origin, dir) {
+                    if let Some((rgb, t)) = shaded {
                         *color = [rgb[0], rgb[1], rgb[2], 255];
                         *depth = t as f32;
                     }
@@ -118,6 +138,25 @@ impl Target<'_> {
     #[inline]
     fn shade_ray(&self, origin: DVec3, dir: DVec3) -> Option<([u8; 3], f64)> {
         let hit = self.tracer.trace(origin, dir)?;
+        Some(self.shade_hit(origin, dir, hit))
+    }
+
+    /// Pixel `(i, j)` of a view with a depth map: each sphere is met by its own ODS ray,
+    /// `C + e r_s merge(phi) side(lam)` along `d(lam, phi)` (DESIGN §9), the nearest wins.
+    fn shade_mapped(&self, view: &View, image: &Image, i: u32, j: u32) -> Option<([u8; 3], f64)> {
+        let (lam, phi) = image.pixel_angles(i, j)?;
+        let (center, dir) = View::mono(view.camera).ray(lam, phi);
+        let side = view.side(lam);
+        let merge = view.merging.factor(phi);
+        let origin_of = |c: DVec3| view.circle_origin(view.sphere_half_ipd(c) * merge, side);
+        let hit = self.tracer.trace_own_rays(center, dir, origin_of)?;
+        let c = self.scene.positions[hit.index].as_dvec3();
+        Some(self.shade_hit(origin_of(c), dir, hit))
+    }
+
+    /// Shaded colour and depth of `hit` on the unit ray from `origin` along `dir`.
+    #[inline]
+    fn shade_hit(&self, origin: DVec3, dir: DVec3, hit: Hit) -> ([u8; 3], f64) {
         let center = self.scene.positions[hit.index].as_dvec3();
         let normal = sphere::facing_normal(origin, dir, hit.t, center);
         let point = origin + hit.t * dir;
@@ -129,6 +168,6 @@ impl Target<'_> {
             origin.as_vec3(),
             &self.lights,
         );
-        Some((rgb, hit.t))
+        (rgb, hit.t)
     }
 }

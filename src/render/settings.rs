@@ -2,6 +2,7 @@
 
 use std::str::FromStr;
 
+use crate::projection::depth_map::DepthMap;
 use crate::projection::{Camera, Image, Stereo, View};
 use crate::value::choice;
 
@@ -105,6 +106,9 @@ pub struct RenderSettings {
     pub proxy: Proxy,
     /// Rasterizer fragment model (ignored by the ray tracer).
     pub imposter: Imposter,
+    /// `--depth-map` (DESIGN §9): each sphere's own ODS radius; ODS only (the other stereo
+    /// modes, and identity maps, ignore it).
+    pub depth_map: Option<DepthMap>,
 }
 
 impl RenderSettings {
@@ -118,12 +122,17 @@ impl RenderSettings {
             shading: Shading::Unlit,
             proxy: Proxy::default(),
             imposter: Imposter::default(),
+            depth_map: None,
         }
     }
 
-    /// The views to render, left eye first.
+    /// The views to render, left eye first, with the depth map where it applies.
     pub fn views(&self) -> Vec<View> {
-        self.stereo.views(self.camera)
+        let mut views = self.stereo.views(self.camera);
+        for v in &mut views {
+            *v = v.with_depth_map(self.depth_map);
+        }
+        views
     }
 }
 

@@ -71,7 +71,7 @@ impl<'s> Resident<'s> {
     ) -> Result<Self, ResidentError> {
         match kind {
             RendererKind::Raytrace => Ok(Resident::Raytrace {
-                tracer: Tracer::new(scene)?,
+                tracer: Tracer::padded(scene, raytrace::padding_for(settings))?,
                 scene,
             }),
             #[cfg(feature = "gpu")]

@@ -257,5 +257,6 @@ pub fn live_settings(scan: &LiveScan, camera: DVec3, request: &RenderRequest) ->
         shading: scan.options.shading,
         proxy: Proxy::default(),
         imposter: Imposter::default(),
+        depth_map: None,
     }
 }
