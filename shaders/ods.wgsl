@@ -78,6 +78,9 @@ fn ray_of_trig(v: View, t: vec4<f32>, phi: f32) -> Ray {
     if v.eye_sign == 0.0 {
         return Ray(vec3<f32>(0.0), dir);
     }
+    if v.model == MODEL_PARALLEL {
+        return Ray(parallel_camera(v), dir);
+    }
     let side = t.y * b.right - t.x * b.forward;
     return Ray(v.eye_sign * circle_radius(v, phi) * side, dir);
 }
