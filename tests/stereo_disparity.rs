@@ -252,3 +252,35 @@ fn bench_charts_the_stereo_methods() {
         assert!(md.contains(m), "{m}: {md}");
     }
 }
+
+#[test]
+fn a_depth_map_caps_the_disparity_image_at_its_nearest_perceived_distance() {
+    // Spheres from 0.3 m to 20 m ahead and around.
+    let positions: Vec<Vec3> = (0..60)
+        .map(|k| {
+            let d = 0.3 + 0.33 * k as f32;
+            let a = k as f32 * 0.7;
+            Vec3::new(d * a.sin(), d * a.cos(), 0.05 * (k % 5) as f32 - 0.1)
+        })
+        .collect();
+    let scene = Scene::new(DVec3::ZERO, positions, 0.04);
+    let mut s = settings(512, ods());
+    let plain = disparity(&scene, &s);
+    s.depth_map = Some("0.5=1.5".parse().unwrap());
+    let mapped = disparity(&scene, &s);
+    let max = |img: &DisparityImage| {
+        img.dh
+            .iter()
+            .filter(|d| d.is_finite())
+            .fold(0.0f64, |m, d| m.max(f64::from(*d)))
+    };
+    let cap = 2.0 * (0.032f64 / 1.5).asin() * ARCMIN_PER_RADIAN;
+    eprintln!(
+        "largest disparity: plain {:.2}, mapped {:.3}, cap {cap:.3} arcmin",
+        max(&plain),
+        max(&mapped)
+    );
+    assert!(max(&plain) > 3.0 * cap);
+    assert!(max(&mapped) <= cap * (1.0 + 1e-5), "{}", max(&mapped));
+    assert!(max(&mapped) >= cap * (1.0 - 1e-3), "{}", max(&mapped));
+}

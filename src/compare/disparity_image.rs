@@ -54,6 +54,17 @@ pub fn disparity_image(
     left: &View,
     right: &View,
 ) -> DisparityImage {
+    disparity_image_of(width, height, |i, j| {
+        hits(i, j).and_then(|p| angular_disparity(left, right, p))
+    })
+}
+
+/// The disparity image whose pixel `(i, j)` has disparity `at(i, j)` (radians).
+fn disparity_image_of(
+    width: u32,
+    height: u32,
+    at: impl Fn(u32, u32) -> Option<(f64, f64)> + Sync,
+) -> DisparityImage {
     let n = width as usize * height as usize;
     let mut dh = vec![f32::NAN; n];
     let mut dv = vec![f32::NAN; n];
@@ -63,9 +74,7 @@ pub fn disparity_image(
             .enumerate()
             .for_each(|(j, (row_h, row_v))| {
                 for (i, (h, v)) in row_h.iter_mut().zip(row_v.iter_mut()).enumerate() {
-                    let disparity =
-                        hits(i as u32, j as u32).and_then(|p| angular_disparity(left, right, p));
-                    if let Some((dh, dv)) = disparity {
+                    if let Some((dh, dv)) = at(i as u32, j as u32) {
                         *h = (dh * ARCMIN_PER_RADIAN) as f32;
                         *v = (dv * ARCMIN_PER_RADIAN) as f32;
                     }
@@ -82,7 +91,9 @@ pub fn disparity_image(
 
 /// The disparity image of `rendered` (drawn under `settings`, its output at `image`): the
 /// surface each left-eye pixel sees, placed in both eyes of `model` (default: the settings'
-/// own stereo). Cube-map eyes see from their parallel cameras, so their model is `parallel`.
+/// own stereo, depth map included). Cube-map eyes see from their parallel cameras, so their
+/// model is `parallel`. Under a depth map each surface point stands in for its sphere's
+/// centre: its own ODS radius places it (the pixel's ray origin refined once with it).
 pub fn left_eye_disparity(
     rendered: &Rendered,
     settings: &RenderSettings,
@@ -95,17 +106,26 @@ pub fn left_eye_disparity(
     };
     let frame = rendered.frames()[0];
     let camera = settings.camera;
-    let drawn = View::eye(camera, &parallel_of(settings.stereo), Eye::Left);
+    let map = settings.depth_map;
+    let drawn = View::eye(camera, &parallel_of(settings.stereo), Eye::Left).with_depth_map(map);
+    let map = if model.is_none() { map } else { None };
     let model = parallel_of(model.unwrap_or(settings.stereo));
-    let left = View::eye(camera, &model, Eye::Left);
-    let right = View::eye(camera, &model, Eye::Right);
-    disparity_image(
-        frame.width,
-        frame.height,
-        |i, j| hit_point(frame, &drawn, image, i, j),
-        &left,
-        &right,
-    )
+    let left = View::eye(camera, &model, Eye::Left).with_depth_map(map);
+    let right = View::eye(camera, &model, Eye::Right).with_depth_map(map);
+    if drawn.depth_map.is_none() && left.depth_map.is_none() {
+        return disparity_image(
+            frame.width,
+            frame.height,
+            |i, j| hit_point(frame, &drawn, image, i, j),
+            &left,
+            &right,
+        );
+    }
+    disparity_image_of(frame.width, frame.height, |i, j| {
+        let first = hit_point(frame, &drawn.with_depth_map(None), image, i, j)?;
+        let p = hit_point(frame, &drawn.for_sphere(first), image, i, j)?;
+        angular_disparity(&left.for_sphere(p), &right.for_sphere(p), p)
+    })
 }
 
 /// How comfortable a disparity image is to view.
