@@ -456,3 +456,49 @@ fn ods_exr_is_multi_view_and_every_exr_is_a_latlong_environment_map() {
     assert_eq!(json["layout"], "top-bottom");
     assert_eq!(json["eyes"].as_array().unwrap().len(), 2);
 }
+
+#[test]
+fn other_projections_carry_no_360_metadata() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| -> PathBuf { dir.path().join(n) };
+    render(&p("hammer.png"), &["--projection", "hammer", "--quiet"]);
+    render(
+        &p("front.jpg"),
+        &["--projection", "equirect:180,90", "--quiet"],
+    );
+    render(
+        &p("fish.exr"),
+        &[
+            "--projection",
+            "fisheye",
+            "--stereo",
+            "ods",
+            "--depth",
+            p("fish_z.exr").to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    render(&p("pano.png"), &["--quiet"]);
+    let has_gpano = |n: &str| {
+        let bytes = std::fs::read(p(n)).unwrap();
+        bytes.windows(5).any(|w| w == b"GPano")
+    };
+    assert!(has_gpano("pano.png"), "the full panorama keeps its GPano");
+    assert!(!has_gpano("hammer.png") && !has_gpano("front.jpg"));
+    for exr in ["fish.exr", "fish_z.exr"] {
+        let (_, attrs) = exr_header(&p(exr));
+        assert_eq!(attrs.environment_map, None, "{exr}");
+        assert_eq!(attrs.multi_view_names.map(|v| v.len()), Some(2), "{exr}");
+    }
+    let refused = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .args(["render", AUTZEN, "-o", p("h.vr.jpg").to_str().unwrap()])
+        .args(["--projection", "hammer", "--stereo", "ods", "--width", "64"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert!(
+        !refused.status.success() && err.contains("equirectangular eyes"),
+        "{err}"
+    );
+    assert!(!p("h.vr.jpg").exists());
+}

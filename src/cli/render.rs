@@ -29,6 +29,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if format == ImageFormat::VrJpeg && !stereo {
         bail!("a VR photo (.vr.jpg) holds two eyes: it needs --stereo ods");
     }
+    if format == ImageFormat::VrJpeg && !args.view.projection.is_full_equirect() {
+        bail!(
+            "a VR photo (.vr.jpg) holds 360° x 180° equirectangular eyes: drop --projection {} \
+             or write a .png",
+            args.view.projection
+        );
+    }
     if format == ImageFormat::VrJpeg && args.separate_eyes {
         bail!("a VR photo (.vr.jpg) holds both eyes in one file: drop --separate-eyes");
     }
@@ -130,10 +137,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         layout,
         jpeg_quality: args.quality,
         yaw_degrees: args.view.yaw,
+        panorama: args.view.projection.is_full_equirect(),
     };
     let mut written = output::write_image_with(&args.output, &rendered, &options)?;
     if let Some(d) = &args.depth {
-        written.extend(output::write_depth(d, &rendered, layout)?);
+        written.extend(output::write_depth_with(d, &rendered, &options)?);
     }
     if let (Some(out), true) = (out_image, args.disparity.is_some() || args.comfort) {
         let disparity = left_eye_disparity(&rendered, &settings, &out, None);
@@ -159,6 +167,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // A top-bottom PNG/JPEG carries no GPano (it would describe one sphere, not two), so its
     // name is what tells players it is stereo.
     if stereo
+        && options.panorama
         && layout == Layout::TopBottom
         && matches!(format, ImageFormat::Png | ImageFormat::Jpeg)
         && !names_top_bottom(&args.output)

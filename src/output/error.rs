@@ -73,6 +73,16 @@ pub enum OutputError {
         /// What was asked for, e.g. `an anaglyph`.
         what: &'static str,
     },
+    /// A 360°-only output (VR photo) was asked for another projection.
+    #[error(
+        "{path}: {what} holds 360° x 180° equirectangular eyes: render it with --projection equirect"
+    )]
+    NotPanorama {
+        /// The requested output file.
+        path: PathBuf,
+        /// What was asked for.
+        what: &'static str,
+    },
     /// JPEG encoding or decoding failed.
     #[error("{path}: JPEG error: {source}")]
     Jpeg {

@@ -51,11 +51,11 @@ pub enum ExrViews<'a> {
 /// The name of the second view of a stereo file.
 pub const RIGHT_VIEW: &str = "right";
 
-/// Layer attributes: every file is a latitude-longitude environment map; a stereo one also
-/// names its views.
-fn attributes(stereo: bool) -> LayerAttributes {
+/// Layer attributes: a full panorama is a latitude-longitude environment map; a stereo file
+/// also names its views.
+fn attributes(stereo: bool, panorama: bool) -> LayerAttributes {
     let mut a = LayerAttributes {
-        environment_map: Some(EnvironmentMap::LatitudeLongitude),
+        environment_map: panorama.then_some(EnvironmentMap::LatitudeLongitude),
         ..LayerAttributes::default()
     };
     if stereo {
@@ -64,10 +64,23 @@ fn attributes(stereo: bool) -> LayerAttributes {
     a
 }
 
-/// Encodes `views` as a single-part EXR into `out`; `path` names the file in errors.
+/// Encodes `views` (full equirectangular panoramas) as a single-part EXR into `out`; `path`
+/// names the file in errors.
 pub fn encode_exr(
     views: ExrViews<'_>,
     content: ExrContent,
+    out: impl Write + Seek,
+    path: &Path,
+) -> Result<(), OutputError> {
+    encode_exr_with(views, content, true, out, path)
+}
+
+/// [`encode_exr`] for any projection: `panorama` marks the file as a latitude-longitude
+/// environment map, which only a full 360° x 180° equirect is.
+pub fn encode_exr_with(
+    views: ExrViews<'_>,
+    content: ExrContent,
+    panorama: bool,
     out: impl Write + Seek,
     path: &Path,
 ) -> Result<(), OutputError> {
@@ -101,7 +114,7 @@ pub fn encode_exr(
     // Samples are computed per block as the encoder asks, so no full-size float copy of the
     // frame is ever held (20 bytes a pixel at five channels).
     let encoding = Encoding::SMALL_LOSSLESS;
-    let attrs = attributes(right.is_some());
+    let attrs = attributes(right.is_some(), panorama);
     let write = |layer_result: Result<(), exr::error::Error>| layer_result.map_err(exr_error(path));
     // Channels are listed in the sorted order OpenEXR stores them in.
     match (content, right) {

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use super::OutputError;
 use super::atomic::{StagedFile, commit_all};
-use super::exr::{ExrContent, ExrViews, encode_exr};
+use super::exr::{ExrContent, ExrViews, encode_exr_with};
 use super::format::ImageFormat;
 use super::jpeg::{encode_jpeg, encode_vr_jpeg};
 use super::png::encode_png;
@@ -43,6 +43,9 @@ pub struct OutputOptions {
     pub jpeg_quality: u8,
     /// The camera's `yaw` in degrees (DESIGN §1), written as the panorama's heading.
     pub yaw_degrees: f64,
+    /// True when the image is the full 360° x 180° equirect: only then do files carry the
+    /// metadata that tells players so (GPano, VR Photo, EXR `envmap`).
+    pub panorama: bool,
 }
 
 impl Default for OutputOptions {
@@ -51,6 +54,7 @@ impl Default for OutputOptions {
             layout: Layout::TopBottom,
             jpeg_quality: super::jpeg::DEFAULT_QUALITY,
             yaw_degrees: 0.0,
+            panorama: true,
         }
     }
 }
@@ -161,18 +165,26 @@ pub fn write_image_with(
     let format = ImageFormat::from_path(path)?;
     let quality = options.jpeg_quality;
     let heading_degrees = heading_from_yaw(options.yaw_degrees);
+    let panorama = options.panorama;
     let sphere = |f: &Frame| PhotoSphere {
         width: f.width,
         height: f.height,
         heading_degrees,
     };
+    let sphere = |f: &Frame| panorama.then(|| sphere(f));
+    if format == ImageFormat::VrJpeg && !panorama {
+        return Err(OutputError::NotPanorama {
+            path: path.to_path_buf(),
+            what: "a VR photo (.vr.jpg)",
+        });
+    }
     let files = files_for(path, rendered, options.layout, format)?;
     write_files(files, |content, w, p| match (format, content) {
-        (ImageFormat::Png, Content::Pano(f)) => encode_png(f, Some(&sphere(f)), w, p),
+        (ImageFormat::Png, Content::Pano(f)) => encode_png(f, sphere(f).as_ref(), w, p),
         (ImageFormat::Png, Content::Pair { left, right }) => {
             encode_png(&stack(left, right, p)?, None, w, p)
         }
-        (ImageFormat::Jpeg, Content::Pano(f)) => encode_jpeg(f, quality, Some(&sphere(f)), w, p),
+        (ImageFormat::Jpeg, Content::Pano(f)) => encode_jpeg(f, quality, sphere(f).as_ref(), w, p),
         (ImageFormat::Jpeg, Content::Pair { left, right }) => {
             encode_jpeg(&stack(left, right, p)?, quality, None, w, p)
         }
@@ -183,7 +195,9 @@ pub fn write_image_with(
             path: p.to_path_buf(),
             what: "a VR photo (.vr.jpg)",
         }),
-        (ImageFormat::Exr, c) => encode_exr(exr_views(c), ExrContent::ColorAndDepth, w, p),
+        (ImageFormat::Exr, c) => {
+            encode_exr_with(exr_views(c), ExrContent::ColorAndDepth, panorama, w, p)
+        }
     })
 }
 
@@ -202,9 +216,25 @@ pub fn write_depth(
     rendered: &Rendered,
     layout: Layout,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    write_depth_with(
+        path,
+        rendered,
+        &OutputOptions {
+            layout,
+            ..OutputOptions::default()
+        },
+    )
+}
+
+/// [`write_depth`] with `options`' layout, marked a panorama only when `options` says so.
+pub fn write_depth_with(
+    path: &Path,
+    rendered: &Rendered,
+    options: &OutputOptions,
+) -> Result<Vec<PathBuf>, OutputError> {
     ImageFormat::require(path, ImageFormat::Exr)?;
-    let files = files_for(path, rendered, layout, ImageFormat::Exr)?;
+    let files = files_for(path, rendered, options.layout, ImageFormat::Exr)?;
     write_files(files, |c, w, p| {
-        encode_exr(exr_views(c), ExrContent::DepthOnly, w, p)
+        encode_exr_with(exr_views(c), ExrContent::DepthOnly, options.panorama, w, p)
     })
 }

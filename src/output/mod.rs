@@ -31,7 +31,9 @@ pub use error::OutputError;
 pub use exr::{ExrContent, ExrViews, read_exr};
 pub use format::ImageFormat;
 pub use jpeg::read_vr_jpeg;
-pub use layout::{Layout, OutputOptions, eye_path, write_depth, write_image, write_image_with};
+pub use layout::{
+    Layout, OutputOptions, eye_path, write_depth, write_depth_with, write_image, write_image_with,
+};
 pub use linear_image::LinearImage;
 pub use png::{read_png, write_png_buffer};
 
