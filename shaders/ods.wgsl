@@ -119,17 +119,24 @@ fn solve_circle_radius(v: View, rho: f32, z: f32) -> f32 {
     return 0.5 * (lo + hi);
 }
 
-// True when `project(v, p)` is ok, without its fixed-point solve: the solve fails only on
-// its first test (the point lies inside the viewing circle).
-fn has_projection(v: View, p: vec3<f32>) -> bool {
-    let b = v.basis;
+// Point `p` (relative to C) in the rig frame (right, forward, up) seen from the eye's
+// camera: C itself, or a parallel eye's camera.
+fn eye_frame(v: View, p: vec3<f32>) -> vec3<f32> {
     var q = p;
     if is_parallel_eye(v) {
         q = p - parallel_camera(v);
     }
-    let x = dot(q, b.right);
-    let y = dot(q, b.forward);
-    let z = dot(q, b.up);
+    let b = v.basis;
+    return vec3<f32>(dot(q, b.right), dot(q, b.forward), dot(q, b.up));
+}
+
+// True when `project(v, p)` is ok, without its fixed-point solve: the solve fails only on
+// its first test (the point lies inside the viewing circle).
+fn has_projection(v: View, p: vec3<f32>) -> bool {
+    let e = eye_frame(v, p);
+    let x = e.x;
+    let y = e.y;
+    let z = e.z;
     let rho = length(vec2<f32>(x, y));
     if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.offset != OFFSET_EXACT
         || v.model == MODEL_PARALLEL {
@@ -141,14 +148,10 @@ fn has_projection(v: View, p: vec3<f32>) -> bool {
 // Longitude and latitude of point `p` (relative to C) in this view; not ok when `p` has no
 // projection (inside the viewing circle, or at C; for a parallel eye, at its camera).
 fn project(v: View, p: vec3<f32>) -> Projected {
-    let b = v.basis;
-    var q = p;
-    if is_parallel_eye(v) {
-        q = p - parallel_camera(v);
-    }
-    let x = dot(q, b.right);
-    let y = dot(q, b.forward);
-    let z = dot(q, b.up);
+    let e = eye_frame(v, p);
+    let x = e.x;
+    let y = e.y;
+    let z = e.z;
     let rho = length(vec2<f32>(x, y));
     let lam_c = atan2(x, y);
     if v.eye_sign == 0.0 || v.half_ipd == 0.0 || v.model == MODEL_PARALLEL {

@@ -140,10 +140,7 @@ impl ViewArgs {
             },
             StereoKind::Ods => Stereo::Ods {
                 ipd: self.ipd,
-                merging: PoleMerging {
-                    north: self.pole_merge_north.unwrap_or(self.pole_merge),
-                    south: self.pole_merge_south.unwrap_or(self.pole_merge),
-                },
+                merging: self.merging(),
                 offset: self.ods_offset,
             },
         })
@@ -160,6 +157,14 @@ impl ViewArgs {
                 kind.unwrap_or_default()
             ),
             (map, _) => Ok(map),
+        }
+    }
+
+    /// Pole merging per pole: `--pole-merge`, overridden by `--pole-merge-north/-south`.
+    pub fn merging(&self) -> PoleMerging {
+        PoleMerging {
+            north: self.pole_merge_north.unwrap_or(self.pole_merge),
+            south: self.pole_merge_south.unwrap_or(self.pole_merge),
         }
     }
 

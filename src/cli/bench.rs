@@ -104,16 +104,13 @@ fn stereo_methods(
     if let Some(&n) = args
         .cubemap_faces
         .iter()
-        .find(|&&n| !(16..=8192).contains(&n))
+        .find(|n| !crate::projection::StereoKind::FACE_SIZES.contains(n))
     {
         anyhow::bail!("--cubemap-faces: a face is 16..=8192 pixels, got {n}");
     }
     let options = bench::stereo_methods::StereoMethodsOptions {
         ipd: args.view.ipd,
-        merging: crate::projection::PoleMerging {
-            north: args.view.pole_merge_north.unwrap_or(args.view.pole_merge),
-            south: args.view.pole_merge_south.unwrap_or(args.view.pole_merge),
-        },
+        merging: args.view.merging(),
         faces: args.cubemap_faces.clone(),
     };
     let tracer = crate::raytrace::Tracer::new(scene)?;

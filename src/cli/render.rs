@@ -242,6 +242,23 @@ fn top_bottom_name(path: &Path) -> PathBuf {
     path.with_file_name(format!("{stem}_360_TB{ext}"))
 }
 
+/// The inputs loaded whole (within `--max-memory`), around `origin` when given, with what
+/// the level of detail, the reader and the filters dropped said.
+fn load_whole(args: &RenderArgs, origin: Option<DVec3>, say: &impl Fn(String)) -> Result<Prepared> {
+    crate::cli::render_guard::check_memory(args)?;
+    let options = PrepareOptions {
+        origin: origin.or(args.prepare_options().origin),
+        ..args.prepare_options()
+    };
+    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
+    if let Some(lod) = &prepared.lod {
+        say(format!("{}: {lod}", args.inputs_name()));
+    }
+    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
+    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    Ok(prepared)
+}
+
 /// `--origin`: the scan loaded whole around `origin` and rendered as a tour renders each frame
 /// (the camera moves in that frame), so that the two give the same file.
 fn render_resident(
@@ -253,17 +270,7 @@ fn render_resident(
     if args.subsample.is_some() {
         bail!("--subsample is not available with --origin (a tour keeps the whole scan)");
     }
-    crate::cli::render_guard::check_memory(args)?;
-    let options = PrepareOptions {
-        origin: Some(origin),
-        ..args.prepare_options()
-    };
-    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
-    if let Some(lod) = &prepared.lod {
-        say(format!("{}: {lod}", args.inputs_name()));
-    }
-    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
-    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    let prepared = load_whole(args, Some(origin), say)?;
     let settings = RenderSettings {
         camera: args.view.camera_at(prepared.camera_world - origin),
         ..*settings
@@ -291,15 +298,7 @@ fn render_map(
     look: &crate::render::Look,
     say: &impl Fn(String),
 ) -> Result<Rendered> {
-    crate::cli::render_guard::check_memory(args)?;
-    let mut options = args.prepare_options();
-    options.origin = args.origin.or(options.origin);
-    let prepared = prepare_files(&args.inputs(), &options, &ProgressBar::hidden())?;
-    if let Some(lod) = &prepared.lod {
-        say(format!("{}: {lod}", args.inputs_name()));
-    }
-    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
-    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    let prepared = load_whole(args, args.origin, say)?;
     let map = crate::prepare::map_extent::map_image(&prepared.scene, args.width)
         .map_err(|e| anyhow!("{}: {e}", args.inputs_name()))?;
     if let crate::projection::Projection::Map(Some(f)) = map.projection {

@@ -385,10 +385,9 @@ fn render_command(args: &TourArgs) -> Vec<String> {
     if stereo == StereoKind::Ods {
         let view = &args.view;
         a.push(format!("--ipd={}", view.ipd));
-        let north = view.pole_merge_north.unwrap_or(view.pole_merge);
-        let south = view.pole_merge_south.unwrap_or(view.pole_merge);
-        a.push(format!("--pole-merge-north={}", north));
-        a.push(format!("--pole-merge-south={}", south));
+        let merging = view.merging();
+        a.push(format!("--pole-merge-north={}", merging.north));
+        a.push(format!("--pole-merge-south={}", merging.south));
         a.push(format!(
             "--ods-offset={}",
             name(&|| view.ods_offset.to_possible_value())

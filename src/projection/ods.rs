@@ -55,6 +55,9 @@ impl StereoKind {
     /// Default cube-map face size of `cubemap` without `:N`.
     pub const DEFAULT_FACE: u32 = 1024;
 
+    /// Cube-map face sizes accepted, pixels.
+    pub const FACE_SIZES: std::ops::RangeInclusive<u32> = 16..=8192;
+
     /// Images rendered per frame: 1 or 2.
     pub fn eyes(self) -> u32 {
         match self {
@@ -75,7 +78,7 @@ impl std::str::FromStr for StereoKind {
                 let n: u32 = n
                     .parse()
                     .map_err(|_| format!("expected cubemap:N with N the face size, got `{s}`"))?;
-                if (16..=8192).contains(&n) {
+                if Self::FACE_SIZES.contains(&n) {
                     Ok(StereoKind::Cubemap(n))
                 } else {
                     Err(format!("cubemap:N needs 16 <= N <= 8192 pixels, got {n}"))

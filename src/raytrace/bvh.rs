@@ -198,29 +198,7 @@ impl Tracer {
     /// length; `t` is measured in units of the normalised direction). `None` on a miss or
     /// for a zero or non-finite direction.
     pub fn trace(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
-        let dir = unit(dir)?;
-        if !origin.is_finite() || self.spheres.is_empty() {
-            return None;
-        }
-        let ray = Ray::new_inf(Vec3A::from(origin.as_vec3()), Vec3A::from(dir.as_vec3()));
-        let mut best: Option<(f64, u32)> = None;
-        self.bvh.ray_traverse(ray, &mut RayHit::none(), |_, id| {
-            let s = &self.spheres[id];
-            let Some(t) = sphere::intersect(origin, dir, s.center(), s.radius as f64) else {
-                return f32::INFINITY;
-            };
-            let index = self.bvh.primitive_indices[id];
-            if is_closer(t, index, best) {
-                best = Some((t, index));
-                prune_distance(t)
-            } else {
-                f32::INFINITY
-            }
-        });
-        best.map(|(t, index)| Hit {
-            index: index as usize,
-            t,
-        })
+        self.closest(origin, dir, |_| origin)
     }
 
     /// Closest hit when each sphere is seen along its own ray `origin_of(centre) + t dir`
@@ -236,18 +214,26 @@ impl Tracer {
         dir: DVec3,
         origin_of: impl Fn(DVec3) -> DVec3,
     ) -> Option<Hit> {
+        self.closest(center, dir, |c| {
+            let origin = origin_of(c);
+            debug_assert!((origin - center).length() <= self.padding * (1.0 + 1e-9) + 1e-12);
+            origin
+        })
+    }
+
+    /// Traverses along `start + t dir` and tests each candidate sphere (centre `c`) with
+    /// the ray from `origin_of(c)`; the nearest such hit, ties to the lowest index.
+    fn closest(&self, start: DVec3, dir: DVec3, origin_of: impl Fn(DVec3) -> DVec3) -> Option<Hit> {
         let dir = unit(dir)?;
-        if !center.is_finite() || self.spheres.is_empty() {
+        if !start.is_finite() || self.spheres.is_empty() {
             return None;
         }
-        let ray = Ray::new_inf(Vec3A::from(center.as_vec3()), Vec3A::from(dir.as_vec3()));
+        let ray = Ray::new_inf(Vec3A::from(start.as_vec3()), Vec3A::from(dir.as_vec3()));
         let mut best: Option<(f64, u32)> = None;
         self.bvh.ray_traverse(ray, &mut RayHit::none(), |_, id| {
             let s = &self.spheres[id];
             let c = s.center();
-            let origin = origin_of(c);
-            debug_assert!((origin - center).length() <= self.padding * (1.0 + 1e-9) + 1e-12);
-            let Some(t) = sphere::intersect(origin, dir, c, s.radius as f64) else {
+            let Some(t) = sphere::intersect(origin_of(c), dir, c, s.radius as f64) else {
                 return f32::INFINITY;
             };
             let index = self.bvh.primitive_indices[id];
