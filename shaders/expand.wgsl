@@ -258,12 +258,12 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     let s = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = sphere_view(params, s);
-    if params.projection != PROJ_EQUIRECT_FULL {
+    if projection_of(params).kind != PROJ_EQUIRECT_FULL {
         expand_projected(view, s, radius, idx);
         return;
     }
-    let raycast = params.imposter == IMPOSTER_RAYCAST;
-    let proxy = params.proxy;
+    let raycast = imposter_of(params) == IMPOSTER_RAYCAST;
+    let proxy = proxy_of(params);
     // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.
     var centre = Projected(vec2<f32>(0.0), false);
     if raycast && proxy == PROXY_BOUNDS {

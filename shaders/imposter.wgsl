@@ -52,7 +52,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     var t: f32;
     var normal: vec3<f32>;
     var hit: vec3<f32>;
-    if params.imposter == IMPOSTER_RAYCAST || (point & FORCE_RAYCAST) != 0u {
+    if imposter_of(params) == IMPOSTER_RAYCAST || (point & FORCE_RAYCAST) != 0u {
         t = intersect_sphere(r, center, radius);
         if t <= 0.0 {
             return miss;
@@ -77,7 +77,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let base = unpack_color(colors[index]);
     let l0 = Light(params.light0_position, params.light0_intensity);
     let l1 = Light(params.light1_position, params.light1_intensity);
-    let c = shade(params.shading, base, normal, hit, r.origin, l0, l1);
+    let c = shade(shading_of(params), base, normal, hit, r.origin, l0, l1);
     let near = params.depth_near;
     let far = params.depth_far;
     let depth = clamp(log(t / near) / log(far / near), 0.0, 1.0);

@@ -52,9 +52,45 @@ struct Params {
     depth_map_count: u32,
 }
 
+// Pipeline-overridable copies of the mode fields of Params (src/raster/specialisation.rs).
+// A pipeline compiled for one mode has the other modes' code folded away, which software
+// rasterizers need: llvmpipe runs every branch a fragment could take at the cost of the
+// largest. SPEC_ANY, the default (the probe's), reads the uniform instead.
+override SPEC_PROJECTION: u32 = SPEC_ANY;
+// SPEC_MONO or SPEC_STEREO: whether the eye sign is 0.
+override SPEC_EYES: u32 = SPEC_ANY;
+override SPEC_MODEL: u32 = SPEC_ANY;
+override SPEC_OFFSET: u32 = SPEC_ANY;
+// 0 without a depth map, 1 with one.
+override SPEC_DEPTH_MAP: u32 = SPEC_ANY;
+override SPEC_PROXY: u32 = SPEC_ANY;
+override SPEC_IMPOSTER: u32 = SPEC_ANY;
+override SPEC_SHADING: u32 = SPEC_ANY;
+
+// `fixed` unless it is SPEC_ANY, else the uniform's `value`.
+fn fixed_or(fixed: u32, value: u32) -> u32 {
+    return select(fixed, value, fixed == SPEC_ANY);
+}
+
+fn proxy_of(p: Params) -> u32 {
+    return fixed_or(SPEC_PROXY, p.proxy);
+}
+
+fn imposter_of(p: Params) -> u32 {
+    return fixed_or(SPEC_IMPOSTER, p.imposter);
+}
+
+fn shading_of(p: Params) -> u32 {
+    return fixed_or(SPEC_SHADING, p.shading);
+}
+
 fn view_of(p: Params) -> View {
-    return View(Basis(p.forward, p.right, p.up), p.eye_sign, p.half_ipd, p.north, p.south,
-                p.ods_offset, p.eye_model);
+    var eye_sign = p.eye_sign;
+    if SPEC_EYES == SPEC_MONO {
+        eye_sign = 0.0;
+    }
+    return View(Basis(p.forward, p.right, p.up), eye_sign, p.half_ipd, p.north, p.south,
+                fixed_or(SPEC_OFFSET, p.ods_offset), fixed_or(SPEC_MODEL, p.eye_model));
 }
 
 // The view the sphere centred at `centre` (relative to C) is seen in: under a depth map its
@@ -62,7 +98,7 @@ fn view_of(p: Params) -> View {
 // distance from C (DESIGN §9); the eye's view otherwise.
 fn sphere_view(p: Params, centre: vec3<f32>) -> View {
     var v = view_of(p);
-    if p.depth_map_count > 0u {
+    if fixed_or(SPEC_DEPTH_MAP, u32(p.depth_map_count > 0u)) != 0u {
         let b = v.basis;
         let rho_c = length(vec2<f32>(dot(centre, b.right), dot(centre, b.forward)));
         v.half_ipd = depth_map_ods_radius(p.depth_map_b, p.depth_map_d, p.depth_map_count,
@@ -72,5 +108,5 @@ fn sphere_view(p: Params, centre: vec3<f32>) -> View {
 }
 
 fn projection_of(p: Params) -> Projection {
-    return Projection(p.projection, p.projection_a, p.projection_b);
+    return Projection(fixed_or(SPEC_PROJECTION, p.projection), p.projection_a, p.projection_b);
 }

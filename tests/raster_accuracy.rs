@@ -164,6 +164,29 @@ fn small_batches_through_one_depth_buffer_give_the_same_frames() {
 }
 
 #[test]
+fn pipelines_are_compiled_for_the_modes_drawn_only() {
+    let Some(raster) = rasterizer() else {
+        return;
+    };
+    assert_eq!(raster.compiled_pipelines(), 0, "nothing drawn yet");
+    let scene = stress_scene(100);
+    let mono = settings(Stereo::Mono);
+    let stereo = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+    let pb = ProgressBar::hidden();
+    let (first, _) = raster.render(&scene, &mono, &pb).unwrap();
+    assert_eq!(raster.compiled_pipelines(), 1);
+    raster.render(&scene, &stereo, &pb).unwrap();
+    assert_eq!(raster.compiled_pipelines(), 2, "mono and ODS");
+    let (again, _) = raster.render(&scene, &mono, &pb).unwrap();
+    assert_eq!(
+        raster.compiled_pipelines(),
+        2,
+        "mono's pipelines are reused"
+    );
+    assert!(first == again, "the reused pipelines draw the same frame");
+}
+
+#[test]
 fn compute_splat_and_drawing_give_the_same_frames() {
     let Some(mut raster) = rasterizer() else {
         return;

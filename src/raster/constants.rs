@@ -114,6 +114,13 @@ shared_constants! {
     /// `Params::eye_model`: every ray of an eye starts at its parallel camera.
     MODEL_PARALLEL: u32 = 1;
 
+    /// A pipeline constant of `params.wgsl` left open: the shader reads the uniform instead.
+    SPEC_ANY: u32 = u32::MAX;
+    /// `SPEC_EYES`: every view of the pipeline is mono (eye sign 0).
+    SPEC_MONO: u32 = 0;
+    /// `SPEC_EYES`: every view of the pipeline is a stereo eye.
+    SPEC_STEREO: u32 = 1;
+
     /// Counters per eye in the statistics buffer (one [`EyeStats`]).
     STATS_PER_EYE: u32 = stat(size_of::<EyeStats>());
     /// Counter index of [`EyeStats::culled`].

@@ -73,8 +73,15 @@ pub struct ExpandPipeline {
 }
 
 impl ExpandPipeline {
-    /// Compiles the pipeline; `splat` includes the compute splat (needs 64-bit atomics).
-    pub fn new(device: &wgpu::Device, splat: bool, cache: Option<&wgpu::PipelineCache>) -> Self {
+    /// Compiles the pipeline from `module` ([`source`]) with the pipeline `constants`;
+    /// `splat` when the module includes the compute splat (needs 64-bit atomics).
+    pub fn new(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        splat: bool,
+        constants: &[(&str, f64)],
+        cache: Option<&wgpu::PipelineCache>,
+    ) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
@@ -97,13 +104,12 @@ impl ExpandPipeline {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let module = shaders::module(device, "expand.wgsl", source(splat));
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("expand"),
             layout: Some(&pipeline_layout),
-            module: &module,
+            module,
             entry_point: Some("expand"),
-            compilation_options: Default::default(),
+            compilation_options: shaders::options(constants),
             cache,
         });
         ExpandPipeline {

@@ -20,8 +20,14 @@ pub struct ImposterPipeline {
 }
 
 impl ImposterPipeline {
-    /// Compiles the pipeline (through `cache` when given).
-    pub fn new(device: &wgpu::Device, cache: Option<&wgpu::PipelineCache>) -> Self {
+    /// Compiles the pipeline from `module` with the pipeline `constants` (through `cache`
+    /// when given).
+    pub fn new(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        constants: &[(&str, f64)],
+        cache: Option<&wgpu::PipelineCache>,
+    ) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -38,15 +44,14 @@ impl ImposterPipeline {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let module = shaders::module(device, "imposter.wgsl", source());
         let attributes = wgpu::vertex_attr_array![0 => Float32x2, 1 => Uint32, 2 => Uint32];
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("imposter"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs"),
-                compilation_options: Default::default(),
+                compilation_options: shaders::options(constants),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: size_of::<ExpandedVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
@@ -57,9 +62,9 @@ impl ImposterPipeline {
             depth_stencil: Some(targets::depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &module,
+                module,
                 entry_point: Some("fs"),
-                compilation_options: Default::default(),
+                compilation_options: shaders::options(constants),
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,

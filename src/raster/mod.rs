@@ -23,6 +23,7 @@ mod raster_frame;
 mod rasterizer;
 mod shaders;
 mod sizing;
+mod specialisation;
 mod splat;
 mod stats;
 mod targets;

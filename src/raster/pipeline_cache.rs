@@ -152,6 +152,8 @@ pub struct PipelineCache {
     pub cache: Option<wgpu::PipelineCache>,
     key: Option<(CacheKey, PathBuf)>,
     status: CacheStatus,
+    /// MD5 of the payload the file holds now (loaded or last written).
+    on_disk: Option<[u8; 16]>,
 }
 
 impl PipelineCache {
@@ -167,6 +169,7 @@ impl PipelineCache {
             cache: None,
             key: None,
             status: CacheStatus::Off(why.to_string()),
+            on_disk: None,
         };
         if !enabled {
             return off("the device has no pipeline cache");
@@ -214,6 +217,7 @@ impl PipelineCache {
             cache: Some(cache),
             key: Some((key, path)),
             status,
+            on_disk: data.as_deref().map(|d| Md5::digest(d).into()),
         }
     }
 
@@ -222,18 +226,20 @@ impl PipelineCache {
         &self.status
     }
 
-    /// Writes the cache back after compiling, unless it was loaded unchanged. A failure to
-    /// write only turns the status into a reason: the cache is an optimisation.
+    /// Writes the cache back after compiling, unless the file already holds what the driver
+    /// has. A failure to write only turns the status into a reason: the cache is an
+    /// optimisation.
     pub fn save(&mut self) {
         let (Some(cache), Some((key, path))) = (&self.cache, &self.key) else {
             return;
         };
-        if matches!(self.status, CacheStatus::Loaded(_)) {
-            return;
-        }
         let Some(payload) = cache.get_data() else {
             return;
         };
+        let digest: [u8; 16] = Md5::digest(&payload).into();
+        if self.on_disk == Some(digest) {
+            return;
+        }
         let bytes = encode(&payload, key);
         let written = path
             .parent()
@@ -250,8 +256,13 @@ impl PipelineCache {
                 })
                 .map_err(|e| e.to_string())
             });
-        if let Err(reason) = written {
-            self.status = CacheStatus::Off(format!("could not write {}: {reason}", path.display()));
+        match written {
+            Ok(()) => self.on_disk = Some(digest),
+            Err(reason) => {
+                let why = format!("could not write {}: {reason}", path.display());
+                self.status = CacheStatus::Off(why);
+                self.key = None;
+            }
         }
     }
 }

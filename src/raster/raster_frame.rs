@@ -3,6 +3,8 @@
 //! through it; [`super::ChunkedFrame`] draws chunks as they are decoded, so the whole cloud
 //! never has to be resident.
 
+use std::sync::Arc;
+
 use indicatif::ProgressBar;
 
 use crate::frame::{Frame, Rendered};
@@ -13,8 +15,9 @@ use super::chunk::GpuChunk;
 use super::error::RasterError;
 use super::expand::{ExpandBuffers, ExpandedVertex, empty_draw_args};
 use super::params::Params;
-use super::rasterizer::Rasterizer;
+use super::rasterizer::{Pipelines, Rasterizer};
 use super::sizing::FrameSizing;
+use super::specialisation::Specialisation;
 use super::splat;
 use super::stats::{EyeStats, RasterStats};
 use super::targets::{EyeTargets, map_read};
@@ -27,6 +30,8 @@ const MAX_EYES: usize = 2;
 /// for chunks of up to `max_chunk_points` points.
 pub struct RasterFrame<'r> {
     rasterizer: &'r Rasterizer,
+    /// Compiled for the modes of `settings`.
+    pipelines: Arc<Pipelines>,
     /// What is drawn: `output`, or its cube-map faces.
     settings: RenderSettings,
     /// What `finish` returns.
@@ -69,6 +74,9 @@ impl Rasterizer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let views = settings.views();
+        // Every view of a frame draws in the same modes (the eyes differ only in sign).
+        let spec = Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0));
+        let pipelines = self.pipelines(spec)?;
         let img = settings.image;
         let targets = views
             .iter()
@@ -120,6 +128,7 @@ impl Rasterizer {
 
         Ok(RasterFrame {
             rasterizer: self,
+            pipelines,
             settings: *settings,
             output,
             views,
@@ -186,8 +195,8 @@ impl<'r> RasterFrame<'r> {
         if chunk.len == 0 {
             return Ok(());
         }
-        let r = self.rasterizer;
-        let ctx = &r.ctx;
+        let r = &*self.pipelines;
+        let ctx = &self.rasterizer.ctx;
         let device = &ctx.device;
         let keys = &self.splat_keys;
         let (expand_bg, draw_bg, resolve_bg) = ctx.scoped("binding a chunk", || {
@@ -230,6 +239,7 @@ impl<'r> RasterFrame<'r> {
                         vertex_capacity,
                     )
                 };
+                debug_assert_eq!(Specialisation::of(&params), self.pipelines.spec);
                 ctx.queue
                     .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
                 ctx.queue

@@ -1,27 +1,54 @@
-//! The rasterizer: one device and its compiled pipelines, reused across frames. Frames
-//! ([`super::RasterFrame`]) borrow it.
+//! The rasterizer: one device, its shader modules and the pipelines compiled from them,
+//! reused across frames. Frames ([`super::RasterFrame`]) borrow it.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandPipeline;
 use super::imposter::ImposterPipeline;
 use super::pipeline_cache::{CacheStatus, PipelineCache};
+use super::shaders;
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
+use super::specialisation::Specialisation;
 use super::splat::{DEFAULT_SPLAT_LIMIT, ResolvePipeline};
+
+/// The pipelines a frame draws with, compiled for one [`Specialisation`].
+pub(crate) struct Pipelines {
+    pub(crate) spec: Specialisation,
+    pub(crate) expand: ExpandPipeline,
+    pub(crate) imposter: ImposterPipeline,
+    pub(crate) resolve: ResolvePipeline,
+}
+
+/// The shader modules every specialisation is compiled from.
+struct Modules {
+    expand: wgpu::ShaderModule,
+    imposter: wgpu::ShaderModule,
+    resolve: wgpu::ShaderModule,
+}
 
 /// A GPU imposter-sphere rasterizer bound to one device; reusable across renders.
 pub struct Rasterizer {
     pub(crate) ctx: GpuContext,
-    pub(crate) expand: ExpandPipeline,
-    pub(crate) imposter: ImposterPipeline,
-    pub(crate) resolve: ResolvePipeline,
+    modules: Modules,
+    /// Pipelines compiled so far, by the modes they serve: only the modes a run draws.
+    pipelines: Mutex<HashMap<Specialisation, Arc<Pipelines>>>,
+    cache: Mutex<PipelineCache>,
     knobs: Knobs,
     pipeline_cache: CacheStatus,
 }
 
+/// `m` locked; a panic elsewhere while it was held leaves nothing half-written here.
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 impl Rasterizer {
-    /// Creates the device and compiles the pipelines, through the on-disk pipeline cache
-    /// ([`super::pipeline_cache`]) when the backend has one.
+    /// Creates the device and its shader modules and opens the on-disk pipeline cache
+    /// ([`super::pipeline_cache`]) when the backend has one. Pipelines are compiled when a
+    /// frame first needs them.
     pub fn new() -> Result<Self, RasterError> {
         let ctx = GpuContext::new()?;
         let device = &ctx.device;
@@ -30,29 +57,63 @@ impl Rasterizer {
             super::imposter::source(),
             super::splat::resolve_source(),
         ];
-        let sources: Vec<&str> = sources.iter().map(String::as_str).collect();
-        let mut cache =
-            PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &sources);
-        let (expand, imposter, resolve) = ctx.scoped("compiling the rasterizer shaders", || {
-            let c = cache.cache.as_ref();
-            (
-                ExpandPipeline::new(device, ctx.int64_atomics, c),
-                ImposterPipeline::new(device, c),
-                ResolvePipeline::new(device, c),
-            )
+        let hashed: Vec<&str> = sources.iter().map(String::as_str).collect();
+        let cache = PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &hashed);
+        let [expand, imposter, resolve] = sources;
+        let modules = ctx.scoped("loading the rasterizer shaders", || Modules {
+            expand: shaders::module(device, "expand.wgsl", expand),
+            imposter: shaders::module(device, "imposter.wgsl", imposter),
+            resolve: shaders::module(device, "splat_resolve.wgsl", resolve),
         })?;
-        cache.save();
+        let pipeline_cache = cache.status().clone();
         Ok(Rasterizer {
             ctx,
-            expand,
-            imposter,
-            resolve,
+            modules,
+            pipelines: Mutex::new(HashMap::new()),
+            cache: Mutex::new(cache),
             knobs: Knobs {
                 splat_limit: DEFAULT_SPLAT_LIMIT,
                 batch_limit: None,
             },
-            pipeline_cache: cache.status().clone(),
+            pipeline_cache,
         })
+    }
+
+    /// The pipelines for `spec`, compiled (and the pipeline cache saved) on first use.
+    pub(crate) fn pipelines(&self, spec: Specialisation) -> Result<Arc<Pipelines>, RasterError> {
+        let mut compiled = lock(&self.pipelines);
+        if let Some(p) = compiled.get(&spec) {
+            return Ok(p.clone());
+        }
+        let mut cache = lock(&self.cache);
+        let device = &self.ctx.device;
+        let constants = spec.constants();
+        let m = &self.modules;
+        let pipelines = self.ctx.scoped("compiling the rasterizer shaders", || {
+            let c = cache.cache.as_ref();
+            Pipelines {
+                spec,
+                expand: ExpandPipeline::new(
+                    device,
+                    &m.expand,
+                    self.ctx.int64_atomics,
+                    &constants,
+                    c,
+                ),
+                imposter: ImposterPipeline::new(device, &m.imposter, &constants, c),
+                resolve: ResolvePipeline::new(device, &m.resolve, &constants, c),
+            }
+        })?;
+        cache.save();
+        let pipelines = Arc::new(pipelines);
+        compiled.insert(spec, pipelines.clone());
+        Ok(pipelines)
+    }
+
+    /// How many sets of pipelines (one per combination of projection, eyes, eye model, ODS
+    /// offset, depth map, proxy, imposter and shading) have been compiled so far.
+    pub fn compiled_pipelines(&self) -> usize {
+        lock(&self.pipelines).len()
     }
 
     /// Caps the points per expand/draw batch (default: as many as the vertex buffer holds).

@@ -51,6 +51,14 @@ pub fn module(device: &wgpu::Device, label: &str, source: String) -> wgpu::Shade
     })
 }
 
+/// Compilation options that set the pipeline-overridable `constants`.
+pub fn options<'a>(constants: &'a [(&'a str, f64)]) -> wgpu::PipelineCompilationOptions<'a> {
+    wgpu::PipelineCompilationOptions {
+        constants,
+        ..Default::default()
+    }
+}
+
 /// Layout entry of the buffer at `binding`, visible to `stages`.
 pub fn buffer_layout(
     binding: u32,

@@ -45,8 +45,14 @@ pub struct ResolvePipeline {
 }
 
 impl ResolvePipeline {
-    /// Compiles the pipeline (through `cache` when given).
-    pub fn new(device: &wgpu::Device, cache: Option<&wgpu::PipelineCache>) -> Self {
+    /// Compiles the pipeline from `module` with the pipeline `constants` (through `cache`
+    /// when given).
+    pub fn new(
+        device: &wgpu::Device,
+        module: &wgpu::ShaderModule,
+        constants: &[(&str, f64)],
+        cache: Option<&wgpu::PipelineCache>,
+    ) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -64,23 +70,22 @@ impl ResolvePipeline {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let module = shaders::module(device, "splat_resolve.wgsl", resolve_source());
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("splat resolve"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
-                module: &module,
+                module,
                 entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
+                compilation_options: shaders::options(constants),
                 buffers: &[],
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(targets::depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module: &module,
+                module,
                 entry_point: Some("fs_resolve"),
-                compilation_options: Default::default(),
+                compilation_options: shaders::options(constants),
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,
