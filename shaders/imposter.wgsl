@@ -44,7 +44,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let center = pt.position - params.camera_offset;
     let radius = pt.radius;
     let view = sphere_view(params, center);
-    let pixel = image_ray(view, projection_of(params), params.image_size, pos);
+    let pixel = pixel_ray(view, vec2<u32>(pos));
     if !pixel.ok {
         return miss;
     }

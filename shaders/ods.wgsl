@@ -73,6 +73,11 @@ fn ray(v: View, lam: f32, phi: f32) -> Ray {
 // sin phi, cos phi), and the latitude `phi` (for the merge factor only): for projections that
 // get them algebraically, since f32 atan2 followed by sin and cos would cost ~1e-5 rad.
 fn ray_of_trig(v: View, t: vec4<f32>, phi: f32) -> Ray {
+    return ray_of_merge(v, t, pole_merging_factor(v.north, v.south, phi));
+}
+
+// `ray_of_trig` with the merge factor at the latitude already known (r = (ipd/2) merge).
+fn ray_of_merge(v: View, t: vec4<f32>, merge: f32) -> Ray {
     let b = v.basis;
     let dir = t.w * (t.x * b.right + t.y * b.forward) + t.z * b.up;
     if v.eye_sign == 0.0 {
@@ -82,7 +87,7 @@ fn ray_of_trig(v: View, t: vec4<f32>, phi: f32) -> Ray {
         return Ray(parallel_camera(v), dir);
     }
     let side = t.y * b.right - t.x * b.forward;
-    return Ray(v.eye_sign * circle_radius(v, phi) * side, dir);
+    return Ray(v.eye_sign * (v.half_ipd * merge) * side, dir);
 }
 
 fn latitude_for_radius(rho: f32, z: f32, r: f32) -> f32 {

@@ -36,8 +36,8 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     for (var y = i32(fy0); y <= i32(fy1); y++) {
         for (var x = x0; x <= x1; x++) {
             let xw = ((x % w) + w) % w;
-            let a = angles_of_position(size, vec2<f32>(f32(xw) + 0.5, f32(y) + 0.5));
-            let t = intersect_sphere(ray(view, a.x, a.y), s, radius);
+            let t = intersect_sphere(table_pixel_ray(view, vec2<u32>(u32(xw), u32(y))), s,
+                                     radius);
             if t > 0.0 {
                 let key = (u64(~bitcast<u32>(t)) << 32u) | u64(~idx);
                 atomicMax(&splat_keys[u32(y * w + xw)], key);
@@ -64,7 +64,6 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
             return false;
         }
     }
-    let proj = projection_of(params);
     let w = i32(size.x);
     for (var k = 0u; k < rs.n; k++) {
         // Pixel centres (x + 0.5, y + 0.5) inside the rectangle, as the rasterizer samples them.
@@ -74,7 +73,7 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
         let y1 = min(i32(floor(rs.hi[k].y - 0.5)), i32(size.y) - 1);
         for (var y = max(y0, 0); y <= y1; y++) {
             for (var x = max(x0, 0); x <= x1; x++) {
-                let pixel = image_ray(view, proj, size, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5));
+                let pixel = pixel_ray(view, vec2<u32>(u32(x), u32(y)));
                 if !pixel.ok {
                     continue;
                 }

@@ -5,6 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::constants::EXPAND_WORKGROUP;
+use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, IMAGE_BOUNDS, PARAMS, SPHERE, SPHERE_BOUNDS};
 use super::splat;
 
@@ -40,6 +41,7 @@ pub fn empty_draw_args() -> wgpu::util::DrawIndirectArgs {
 pub fn source(splat: bool) -> String {
     shaders::compose(&[
         PARAMS,
+        PIXEL_TRIG,
         CHUNK,
         SPHERE_BOUNDS,
         IMAGE_BOUNDS,
@@ -79,6 +81,7 @@ impl ExpandPipeline {
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
         splat: bool,
+        trig: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
         cache: Option<&wgpu::PipelineCache>,
     ) -> Self {
@@ -101,7 +104,7 @@ impl ExpandPipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("expand"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(trig)],
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -139,11 +142,13 @@ impl ExpandPipeline {
         })
     }
 
-    /// Records the expansion of `count` points (the batch of the bound `Params`).
+    /// Records the expansion of `count` points (the batch of the bound `Params`); `trig`
+    /// binds the pixel trigonometry.
     pub fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         bind_group: &wgpu::BindGroup,
+        trig: &wgpu::BindGroup,
         count: u32,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
@@ -153,6 +158,7 @@ impl ExpandPipeline {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(1, trig, &[]);
         pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
     }
 }

@@ -2,6 +2,7 @@
 //! one eye and shades each fragment as the sphere it stands for.
 
 use super::expand::ExpandedVertex;
+use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
 use super::targets;
 
@@ -10,7 +11,7 @@ pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
 
 /// Source of the imposter module.
 pub fn source() -> String {
-    shaders::compose(&[PARAMS, CHUNK, SHADING, SPHERE, IMPOSTER])
+    shaders::compose(&[PARAMS, PIXEL_TRIG, CHUNK, SHADING, SPHERE, IMPOSTER])
 }
 
 /// The imposter pipeline and its bind group layout.
@@ -25,6 +26,7 @@ impl ImposterPipeline {
     pub fn new(
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
+        trig: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
         cache: Option<&wgpu::PipelineCache>,
     ) -> Self {
@@ -41,7 +43,7 @@ impl ImposterPipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("imposter"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(trig)],
             immediate_size: 0,
         });
         let attributes = wgpu::vertex_attr_array![0 => Float32x2, 1 => Uint32, 2 => Uint32];
@@ -97,11 +99,13 @@ impl ImposterPipeline {
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         bind_group: &wgpu::BindGroup,
+        trig: &wgpu::BindGroup,
         vertices: &wgpu::Buffer,
         draw_args: &wgpu::Buffer,
     ) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(1, trig, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.draw_indirect(draw_args, 0);
     }

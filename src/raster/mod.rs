@@ -18,6 +18,7 @@ mod expand;
 mod imposter;
 mod params;
 pub mod pipeline_cache;
+mod pixel_trig;
 pub mod probe;
 mod raster_frame;
 mod rasterizer;

@@ -15,6 +15,7 @@ use super::chunk::GpuChunk;
 use super::error::RasterError;
 use super::expand::{ExpandBuffers, ExpandedVertex, empty_draw_args};
 use super::params::Params;
+use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
 use super::sizing::FrameSizing;
 use super::specialisation::Specialisation;
@@ -32,6 +33,8 @@ pub struct RasterFrame<'r> {
     rasterizer: &'r Rasterizer,
     /// Compiled for the modes of `settings`.
     pipelines: Arc<Pipelines>,
+    /// The pixel trigonometry of `settings`' image, bound.
+    trig: wgpu::BindGroup,
     /// What is drawn: `output`, or its cube-map faces.
     settings: RenderSettings,
     /// What `finish` returns.
@@ -77,6 +80,12 @@ impl Rasterizer {
         // Every view of a frame draws in the same modes (the eyes differ only in sign).
         let spec = Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0));
         let pipelines = self.pipelines(spec)?;
+        // The eyes of a frame share their merge profiles: one table serves them all.
+        debug_assert!(views.iter().all(|v| v.merging == views[0].merging));
+        let table = pixel_trig::table(&settings.image, &views[0].merging);
+        let trig = ctx.scoped("uploading the pixel trigonometry", || {
+            pixel_trig::bind(device, &pipelines.trig_layout, &table)
+        })?;
         let img = settings.image;
         let targets = views
             .iter()
@@ -129,6 +138,7 @@ impl Rasterizer {
         Ok(RasterFrame {
             rasterizer: self,
             pipelines,
+            trig,
             settings: *settings,
             output,
             views,
@@ -246,11 +256,17 @@ impl<'r> RasterFrame<'r> {
                     .write_buffer(&self.draw_args, 0, empty_draw_args().as_bytes());
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let writes = self.clock.first_pass_writes(self.batches == 0);
-                r.expand.dispatch(&mut encoder, &expand_bg, count, writes);
+                r.expand
+                    .dispatch(&mut encoder, &expand_bg, &self.trig, count, writes);
                 {
                     let mut pass = target.begin_pass(&mut encoder, false, None);
-                    r.imposter
-                        .draw(&mut pass, &draw_bg, &self.vertices, &self.draw_args);
+                    r.imposter.draw(
+                        &mut pass,
+                        &draw_bg,
+                        &self.trig,
+                        &self.vertices,
+                        &self.draw_args,
+                    );
                 }
                 ctx.queue.submit([encoder.finish()]);
                 // Keep the queue short so progress means something and memory stays flat.
@@ -269,7 +285,7 @@ impl<'r> RasterFrame<'r> {
                 let mut encoder = device.create_command_encoder(&Default::default());
                 {
                     let mut pass = target.begin_pass(&mut encoder, false, None);
-                    r.resolve.draw(&mut pass, bg);
+                    r.resolve.draw(&mut pass, bg, &self.trig);
                 }
                 encoder.clear_buffer(keys, 0, None);
                 ctx.queue.submit([encoder.finish()]);

@@ -9,6 +9,7 @@ use super::error::RasterError;
 use super::expand::ExpandPipeline;
 use super::imposter::ImposterPipeline;
 use super::pipeline_cache::{CacheStatus, PipelineCache};
+use super::pixel_trig;
 use super::shaders;
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::specialisation::Specialisation;
@@ -20,6 +21,8 @@ pub(crate) struct Pipelines {
     pub(crate) expand: ExpandPipeline,
     pub(crate) imposter: ImposterPipeline,
     pub(crate) resolve: ResolvePipeline,
+    /// Layout of the pixel trigonometry all three bind as group 1.
+    pub(crate) trig_layout: wgpu::BindGroupLayout,
 }
 
 /// The shader modules every specialisation is compiled from.
@@ -91,17 +94,14 @@ impl Rasterizer {
         let m = &self.modules;
         let pipelines = self.ctx.scoped("compiling the rasterizer shaders", || {
             let c = cache.cache.as_ref();
+            let trig = pixel_trig::layout(device);
+            let splat = self.ctx.int64_atomics;
             Pipelines {
                 spec,
-                expand: ExpandPipeline::new(
-                    device,
-                    &m.expand,
-                    self.ctx.int64_atomics,
-                    &constants,
-                    c,
-                ),
-                imposter: ImposterPipeline::new(device, &m.imposter, &constants, c),
-                resolve: ResolvePipeline::new(device, &m.resolve, &constants, c),
+                expand: ExpandPipeline::new(device, &m.expand, splat, &trig, &constants, c),
+                imposter: ImposterPipeline::new(device, &m.imposter, &trig, &constants, c),
+                resolve: ResolvePipeline::new(device, &m.resolve, &trig, &constants, c),
+                trig_layout: trig,
             }
         })?;
         cache.save();

@@ -3,6 +3,7 @@
 //! full-image render pass (`shaders/splat_resolve.wgsl`) merges the keys into the targets.
 
 use super::imposter::IMPOSTER;
+use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
 use super::targets;
 
@@ -25,7 +26,15 @@ pub fn expand_part(int64_atomics: bool) -> &'static str {
 
 /// Source of the resolve module: the imposter module (for its shading) and the resolve pass.
 pub fn resolve_source() -> String {
-    shaders::compose(&[PARAMS, CHUNK, SHADING, SPHERE, IMPOSTER, SPLAT_RESOLVE])
+    shaders::compose(&[
+        PARAMS,
+        PIXEL_TRIG,
+        CHUNK,
+        SHADING,
+        SPHERE,
+        IMPOSTER,
+        SPLAT_RESOLVE,
+    ])
 }
 
 /// Allocates the splat key buffer of `bytes` (one `u64` per pixel of one eye).
@@ -50,6 +59,7 @@ impl ResolvePipeline {
     pub fn new(
         device: &wgpu::Device,
         module: &wgpu::ShaderModule,
+        trig: &wgpu::BindGroupLayout,
         constants: &[(&str, f64)],
         cache: Option<&wgpu::PipelineCache>,
     ) -> Self {
@@ -67,7 +77,7 @@ impl ResolvePipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("splat resolve"),
-            bind_group_layouts: &[Some(&layout)],
+            bind_group_layouts: &[Some(&layout), Some(trig)],
             immediate_size: 0,
         });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -116,9 +126,15 @@ impl ResolvePipeline {
     }
 
     /// Records the full-image pass that merges the keys.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        bind_group: &wgpu::BindGroup,
+        trig: &wgpu::BindGroup,
+    ) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(1, trig, &[]);
         pass.draw(0..3, 0..1);
     }
 }
