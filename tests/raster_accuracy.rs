@@ -187,6 +187,36 @@ fn pipelines_are_compiled_for_the_modes_drawn_only() {
 }
 
 #[test]
+fn frames_drawn_into_reused_buffers_are_the_same() {
+    let Some(raster) = rasterizer() else {
+        return;
+    };
+    // From its second frame on a rasterizer keeps its targets, splat keys and work buffers
+    // for the next frame of the same shape: nothing of one frame may reach the next.
+    let scene = stress_scene(1500);
+    let ahead = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+    let mut turned = ahead;
+    turned.camera = Camera::new(DVec3::new(0.3, -0.2, 0.1), 90.0);
+    let pb = ProgressBar::hidden();
+    let (fresh, stats) = raster.render(&scene, &ahead, &pb).unwrap();
+    assert!(
+        stats.splatted > 1000,
+        "the splat keys are exercised: {stats}"
+    );
+    let (other, _) = raster.render(&scene, &turned, &pb).unwrap();
+    assert!(fresh != other, "the two views differ");
+    for k in 0..2 {
+        let (reused, _) = raster.render(&scene, &ahead, &pb).unwrap();
+        assert!(fresh == reused, "frame {} in reused buffers differs", k + 3);
+        raster.render(&scene, &turned, &pb).unwrap();
+    }
+    // Another shape in between replaces the kept buffers.
+    raster.render(&scene, &settings(Stereo::Mono), &pb).unwrap();
+    let (last, _) = raster.render(&scene, &ahead, &pb).unwrap();
+    assert!(fresh == last, "the first shape again differs");
+}
+
+#[test]
 fn compute_splat_and_drawing_give_the_same_frames() {
     let Some(mut raster) = rasterizer() else {
         return;

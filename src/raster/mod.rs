@@ -15,6 +15,7 @@ mod constants;
 mod context;
 mod error;
 mod expand;
+mod frame_buffers;
 mod imposter;
 mod params;
 pub mod pipeline_cache;

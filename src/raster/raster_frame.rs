@@ -13,19 +13,16 @@ use crate::render::{Proxy, RenderSettings, cubemap_stereo};
 
 use super::chunk::GpuChunk;
 use super::error::RasterError;
-use super::expand::{ExpandBuffers, ExpandedVertex, empty_draw_args};
+use super::expand::{ExpandBuffers, empty_draw_args};
+use super::frame_buffers::{FrameBuffers, FrameShape, MAX_EYES, Spare};
 use super::params::Params;
 use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
 use super::sizing::FrameSizing;
 use super::specialisation::Specialisation;
-use super::splat;
 use super::stats::{EyeStats, RasterStats};
-use super::targets::{EyeTargets, map_read};
+use super::targets::map_read;
 use super::timing::{FrameClock, FrameTiming};
-
-/// Eyes a frame can have (ODS: left and right).
-const MAX_EYES: usize = 2;
 
 /// A frame being drawn: per-eye targets, splat keys and the expand/draw work buffers, sized
 /// for chunks of up to `max_chunk_points` points.
@@ -40,13 +37,10 @@ pub struct RasterFrame<'r> {
     /// What `finish` returns.
     output: RenderSettings,
     views: Vec<View>,
-    targets: Vec<EyeTargets>,
     sizing: FrameSizing,
-    splat_keys: wgpu::Buffer,
-    params: wgpu::Buffer,
-    vertices: wgpu::Buffer,
-    draw_args: wgpu::Buffer,
-    stats: wgpu::Buffer,
+    buffers: FrameBuffers,
+    /// Whether `finish` keeps the buffers for the next frame.
+    keep: bool,
     clock: FrameClock,
     batches: u64,
     camera_offset: [f32; 3],
@@ -87,50 +81,15 @@ impl Rasterizer {
             pixel_trig::bind(device, &pipelines.trig_layout, &table)
         })?;
         let img = settings.image;
-        let targets = views
-            .iter()
-            .map(|_| EyeTargets::new(ctx, img.width, img.height))
-            .collect::<Result<Vec<_>, _>>()?;
-        // One key buffer, eye after eye; a placeholder binding when the splat is off.
-        let splat_keys = ctx.scoped("allocating splat buffers", || {
-            splat::key_buffer(device, sizing.splat_key_bytes)
-        })?;
-
-        let (params, vertices, draw_args, stats) = ctx.scoped("allocating work buffers", || {
-            let make = |label, size: usize, usage| {
-                device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some(label),
-                    size: size as u64,
-                    usage,
-                    mapped_at_creation: false,
-                })
-            };
-            use wgpu::BufferUsages as U;
-            (
-                make("params", size_of::<Params>(), U::UNIFORM | U::COPY_DST),
-                make(
-                    "vertices",
-                    sizing.vertex_capacity as usize * size_of::<ExpandedVertex>(),
-                    U::STORAGE | U::VERTEX,
-                ),
-                make(
-                    "draw args",
-                    size_of::<wgpu::util::DrawIndirectArgs>(),
-                    U::STORAGE | U::INDIRECT | U::COPY_DST,
-                ),
-                make(
-                    "stats",
-                    MAX_EYES * size_of::<EyeStats>(),
-                    U::STORAGE | U::COPY_SRC | U::COPY_DST,
-                ),
-            )
-        })?;
+        let shape = FrameShape::new((img.width, img.height), views.len(), &sizing);
+        let (buffers, keep) = Spare::take(&self.spare, ctx, shape)?;
         let clock = FrameClock::new(ctx);
 
+        // The splat keys need no clear: new buffers start zeroed, and a frame leaves its keys
+        // zeroed after each eye's resolve.
         let mut encoder = device.create_command_encoder(&Default::default());
-        encoder.clear_buffer(&stats, 0, None);
-        encoder.clear_buffer(&splat_keys, 0, None);
-        for t in &targets {
+        encoder.clear_buffer(&buffers.stats, 0, None);
+        for t in &buffers.targets {
             t.clear(&mut encoder);
         }
         ctx.queue.submit([encoder.finish()]);
@@ -142,13 +101,9 @@ impl Rasterizer {
             settings: *settings,
             output,
             views,
-            targets,
             sizing,
-            splat_keys,
-            params,
-            vertices,
-            draw_args,
-            stats,
+            buffers,
+            keep,
             clock,
             batches: 0,
             camera_offset: [0.0; 3],
@@ -208,33 +163,38 @@ impl<'r> RasterFrame<'r> {
         let r = &*self.pipelines;
         let ctx = &self.rasterizer.ctx;
         let device = &ctx.device;
-        let keys = &self.splat_keys;
+        let keys = &self.buffers.splat_keys;
         let (expand_bg, draw_bg, resolve_bg) = ctx.scoped("binding a chunk", || {
             let expand_bg = r.expand.bind(
                 device,
                 &ExpandBuffers {
-                    params: &self.params,
+                    params: &self.buffers.params,
                     points: &chunk.points,
-                    vertices: &self.vertices,
-                    draw_args: &self.draw_args,
-                    stats: &self.stats,
+                    vertices: &self.buffers.vertices,
+                    draw_args: &self.buffers.draw_args,
+                    stats: &self.buffers.stats,
                     splat_keys: keys,
                 },
             );
             let resolve_bg = self.sizing.splat().then(|| {
-                r.resolve
-                    .bind(device, &self.params, &chunk.points, &chunk.colors, keys)
+                r.resolve.bind(
+                    device,
+                    &self.buffers.params,
+                    &chunk.points,
+                    &chunk.colors,
+                    keys,
+                )
             });
-            let draw_bg = r
-                .imposter
-                .bind(device, &self.params, &chunk.points, &chunk.colors);
+            let draw_bg =
+                r.imposter
+                    .bind(device, &self.buffers.params, &chunk.points, &chunk.colors);
             (expand_bg, draw_bg, resolve_bg)
         })?;
         self.clock.start();
         let vertex_capacity = self.sizing.vertex_capacity;
         // Eye by eye, so that one splat key buffer serves both: its keys index this chunk's
         // points for this eye and are merged (and cleared) before the next.
-        for (eye, (view, target)) in self.views.iter().zip(&self.targets).enumerate() {
+        for (eye, (view, target)) in self.views.iter().zip(&self.buffers.targets).enumerate() {
             let mut first = 0u32;
             while first < chunk.len {
                 let count = (chunk.len - first).min(self.sizing.batch_points);
@@ -251,9 +211,9 @@ impl<'r> RasterFrame<'r> {
                 };
                 debug_assert_eq!(Specialisation::of(&params), self.pipelines.spec);
                 ctx.queue
-                    .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+                    .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
                 ctx.queue
-                    .write_buffer(&self.draw_args, 0, empty_draw_args().as_bytes());
+                    .write_buffer(&self.buffers.draw_args, 0, empty_draw_args().as_bytes());
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let writes = self.clock.first_pass_writes(self.batches == 0);
                 r.expand
@@ -264,8 +224,8 @@ impl<'r> RasterFrame<'r> {
                         &mut pass,
                         &draw_bg,
                         &self.trig,
-                        &self.vertices,
-                        &self.draw_args,
+                        &self.buffers.vertices,
+                        &self.buffers.draw_args,
                     );
                 }
                 ctx.queue.submit([encoder.finish()]);
@@ -281,7 +241,7 @@ impl<'r> RasterFrame<'r> {
                     ..Params::new(view, &self.settings, eye as u32, (0, 0), vertex_capacity)
                 };
                 ctx.queue
-                    .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+                    .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
                 let mut encoder = device.create_command_encoder(&Default::default());
                 {
                     let mut pass = target.begin_pass(&mut encoder, false, None);
@@ -310,7 +270,7 @@ impl<'r> RasterFrame<'r> {
                 mapped_at_creation: false,
             });
             let mut encoder = device.create_command_encoder(&Default::default());
-            encoder.copy_buffer_to_buffer(&self.stats, 0, &read, 0, None);
+            encoder.copy_buffer_to_buffer(&self.buffers.stats, 0, &read, 0, None);
             ctx.queue.submit([encoder.finish()]);
             read
         })?;
@@ -322,14 +282,26 @@ impl<'r> RasterFrame<'r> {
                 message: format!("{n} proxies overflowed the vertex buffer"),
             }
         })?;
-        // The work buffers are no longer needed, and each eye's textures go as soon as its
-        // frame is read back: the peak while reading stays near one eye's read-back.
-        drop((self.splat_keys, self.vertices));
-        let mut frames: Vec<Frame> = self
-            .targets
-            .into_iter()
-            .map(|t| t.read(ctx))
-            .collect::<Result<_, _>>()?;
+        let mut buffers = self.buffers;
+        let frames: Vec<Frame> = if self.keep {
+            let frames = buffers
+                .targets
+                .iter_mut()
+                .map(|t| t.read(ctx, true))
+                .collect::<Result<_, _>>()?;
+            Spare::put(&self.rasterizer.spare, buffers);
+            frames
+        } else {
+            // The work buffers are no longer needed, and each eye's textures go as soon as its
+            // frame is read back: the peak while reading stays near one eye's read-back.
+            drop((buffers.splat_keys, buffers.vertices));
+            buffers
+                .targets
+                .into_iter()
+                .map(|mut t| t.read(ctx, false))
+                .collect::<Result<_, _>>()?
+        };
+        let mut frames = frames;
         let rendered = if frames.len() == 2 {
             let right = frames.pop().expect("two frames");
             let left = frames.pop().expect("two frames");

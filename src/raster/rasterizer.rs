@@ -7,6 +7,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandPipeline;
+use super::frame_buffers::Spare;
 use super::imposter::ImposterPipeline;
 use super::pipeline_cache::{CacheStatus, PipelineCache};
 use super::pixel_trig;
@@ -39,6 +40,8 @@ pub struct Rasterizer {
     /// Pipelines compiled so far, by the modes they serve: only the modes a run draws.
     pipelines: Mutex<HashMap<Specialisation, Arc<Pipelines>>>,
     cache: Mutex<PipelineCache>,
+    /// The last frame's buffers, for the next frame of its shape.
+    pub(crate) spare: Mutex<Spare>,
     knobs: Knobs,
     pipeline_cache: CacheStatus,
 }
@@ -74,6 +77,7 @@ impl Rasterizer {
             modules,
             pipelines: Mutex::new(HashMap::new()),
             cache: Mutex::new(cache),
+            spare: Mutex::new(Spare::default()),
             knobs: Knobs {
                 splat_limit: DEFAULT_SPLAT_LIMIT,
                 batch_limit: None,

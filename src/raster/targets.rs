@@ -52,6 +52,8 @@ pub struct EyeTargets {
     pub distance_view: wgpu::TextureView,
     /// View of the depth texture.
     pub depth_view: wgpu::TextureView,
+    /// Colour and distance read-back buffers, kept between reads of a reused frame.
+    readback: Option<(wgpu::Buffer, wgpu::Buffer)>,
 }
 
 fn padded_row(width: u32) -> u32 {
@@ -103,6 +105,7 @@ impl EyeTargets {
                 color,
                 distance,
                 depth,
+                readback: None,
             }
         })
     }
@@ -167,12 +170,30 @@ impl EyeTargets {
         })
     }
 
-    /// Copies the colour and distance textures back into a [`Frame`].
-    pub fn read(&self, ctx: &GpuContext) -> Result<Frame, RasterError> {
+    /// Copies the colour and distance textures back into a [`Frame`]; `keep` keeps the
+    /// read-back buffers for the next read.
+    pub fn read(&mut self, ctx: &GpuContext, keep: bool) -> Result<Frame, RasterError> {
         let (w, h) = (self.width, self.height);
         let row = padded_row(w);
         let size = row as u64 * h as u64;
-        let (color_buf, dist_buf) = ctx.scoped("allocating read-back buffers", || {
+        let buffers = match self.readback.take() {
+            Some(b) => b,
+            None => self.readback_buffers(ctx, size)?,
+        };
+        let frame = self.read_into(ctx, &buffers);
+        if keep {
+            self.readback = Some(buffers);
+        }
+        frame
+    }
+
+    /// New colour and distance read-back buffers of `size` bytes.
+    fn readback_buffers(
+        &self,
+        ctx: &GpuContext,
+        size: u64,
+    ) -> Result<(wgpu::Buffer, wgpu::Buffer), RasterError> {
+        ctx.scoped("allocating read-back buffers", || {
             let make = |label| {
                 ctx.device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some(label),
@@ -182,9 +203,19 @@ impl EyeTargets {
                 })
             };
             (make("color read-back"), make("distance read-back"))
-        })?;
+        })
+    }
+
+    /// Copies the textures into `(color_buf, dist_buf)` and converts them into a [`Frame`].
+    fn read_into(
+        &self,
+        ctx: &GpuContext,
+        (color_buf, dist_buf): &(wgpu::Buffer, wgpu::Buffer),
+    ) -> Result<Frame, RasterError> {
+        let (w, h) = (self.width, self.height);
+        let row = padded_row(w);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        for (tex, buf) in [(&self.color, &color_buf), (&self.distance, &dist_buf)] {
+        for (tex, buf) in [(&self.color, color_buf), (&self.distance, dist_buf)] {
             encoder.copy_texture_to_buffer(
                 tex.as_image_copy(),
                 wgpu::TexelCopyBufferInfo {
@@ -204,8 +235,8 @@ impl EyeTargets {
         }
         ctx.queue.submit([encoder.finish()]);
         // Straight from the mapped buffers into the frame: no intermediate copy of the image.
-        map_read_with(ctx, &color_buf, "reading back colour", |color| {
-            map_read_with(ctx, &dist_buf, "reading back distances", |dist| {
+        map_read_with(ctx, color_buf, "reading back colour", |color| {
+            map_read_with(ctx, dist_buf, "reading back distances", |dist| {
                 let mut frame = Frame::new(w, h);
                 for j in 0..h as usize {
                     let src = j * row as usize;
