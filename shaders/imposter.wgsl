@@ -71,6 +71,12 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
         hit = center + radius * normal;
         t = distance(hit, r.origin);
     }
+    return shade_hit(index, r, t, hit, normal);
+}
+
+// Shades point `index` hit at distance `t` along ray `r`, at `hit` with outward `normal`.
+fn shade_hit(index: u32, r: Ray, t: f32, hit: vec3<f32>, outward: vec3<f32>) -> Shaded {
+    var normal = outward;
     if dot(normal, r.dir) > 0.0 {
         normal = -normal;
     }

@@ -1,6 +1,6 @@
 // Render pass merging the compute splat's nearest hits into one eye's targets. Driven by
 // src/raster/splat.rs. Prepended: everything imposter.wgsl needs, and imposter.wgsl itself
-// (its shade_pixel and FragmentOut).
+// (its shade_hit and FragmentOut).
 
 // Splat keys per pixel, as written by the compute splat (see splat.wgsl): x = !point index,
 // y = !distance bits; (0, 0) = nothing splatted. Read as u32 pairs so this stage needs no
@@ -24,9 +24,14 @@ fn fs_resolve(@builtin(position) position: vec4<f32>) -> FragmentOut {
     if key.x == 0u && key.y == 0u {
         discard;
     }
-    let s = shade_pixel(position.xy, ~key.x | FORCE_RAYCAST, vec2<f32>(0.0));
-    if !s.hit {
-        discard;
-    }
+    // The key holds the hit's distance: the splat's intersection, bit for bit, so nothing is
+    // intersected again (and unlit shading needs neither the ray nor the point).
+    let index = ~key.x;
+    let t = bitcast<f32>(~key.y);
+    let pt = points[index];
+    let center = pt.position - params.camera_offset;
+    let r = pixel_ray(sphere_view(params, center), vec2<u32>(position.xy)).ray;
+    let hit = r.origin + t * r.dir;
+    let s = shade_hit(index, r, t, hit, (hit - center) / pt.radius);
     return FragmentOut(s.color, s.distance, s.depth);
 }

@@ -13,7 +13,9 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::Rendered;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
-use omnicloud::render::{ColorMode, ColorRule, Imposter, Proxy, RenderSettings, base_colors};
+use omnicloud::render::{
+    ColorMode, ColorRule, Imposter, Proxy, RenderSettings, Shading, base_colors,
+};
 use raster_common::*;
 
 const WIDTH: u32 = 512;
@@ -230,30 +232,40 @@ fn compute_splat_and_drawing_give_the_same_frames() {
         return;
     }
     let scene = stress_scene(1500);
-    let s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
-    let (splatted, with) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
-    raster.set_splat_limit(0);
-    let (drawn, without) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
-    eprintln!("splat: {with}\ndraw: {without}");
-    assert_eq!(without.splatted, 0);
-    assert!(with.splatted > 1000, "too few spheres splatted: {with}");
-    assert!(with.vertices < without.vertices);
-    assert_eq!(with.drawn, without.drawn);
-    let pairs = match (&splatted, &drawn) {
-        (
-            Rendered::Stereo { left, right },
-            Rendered::Stereo {
-                left: l2,
-                right: r2,
-            },
-        ) => [(left, l2), (right, r2)],
-        _ => panic!("ODS renders two eyes"),
-    };
-    for (a, b) in pairs {
-        let differ = (0..a.color.len())
-            .filter(|&k| a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits())
-            .count();
-        assert_eq!(differ, 0, "{differ} pixels differ between splat and draw");
+    // Every shading: the splat's resolve shades from the distance in its key.
+    for shading in [Shading::Unlit, Shading::Phong, Shading::Normal] {
+        let mut s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+        s.shading = shading;
+        raster.set_splat_limit(16);
+        let (splatted, with) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+        raster.set_splat_limit(0);
+        let (drawn, without) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
+        eprintln!("{shading:?} splat: {with}\ndraw: {without}");
+        assert_eq!(without.splatted, 0);
+        assert!(with.splatted > 1000, "too few spheres splatted: {with}");
+        assert!(with.vertices < without.vertices);
+        assert_eq!(with.drawn, without.drawn);
+        let pairs = match (&splatted, &drawn) {
+            (
+                Rendered::Stereo { left, right },
+                Rendered::Stereo {
+                    left: l2,
+                    right: r2,
+                },
+            ) => [(left, l2), (right, r2)],
+            _ => panic!("ODS renders two eyes"),
+        };
+        for (a, b) in pairs {
+            let differ = (0..a.color.len())
+                .filter(|&k| {
+                    a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits()
+                })
+                .count();
+            assert_eq!(
+                differ, 0,
+                "{shading:?}: {differ} pixels differ between splat and draw"
+            );
+        }
     }
 }
 
