@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use crate::Rendered;
 use crate::memory;
 use crate::prepare::subsample::{self, Subsample};
-use crate::raster::{CacheStatus, ChunkedFrame, Rasterizer};
+use crate::raster::{CacheStatus, ChunkedFrame, RasterError, Rasterizer};
 use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
@@ -66,9 +66,21 @@ pub(super) fn rasterize(
         color: args.color,
         ..PlanOptions::default()
     };
-    let pb = progress::bar(args.quiet, 0, "surveying");
-    let plan = stream::plan_files(&args.inputs(), &options, &pb)?;
-    pb.finish_and_clear();
+    // The GPU device and the pipelines of these settings are set up on another thread while
+    // the files are surveyed: neither needs the other.
+    let (plan, gpu) = std::thread::scope(|scope| {
+        let gpu = scope.spawn(|| {
+            let setup = Instant::now();
+            let rasterizer = Rasterizer::new()?;
+            rasterizer.prepare(settings)?;
+            Ok::<_, RasterError>((rasterizer, setup.elapsed()))
+        });
+        let pb = progress::bar(args.quiet, 0, "surveying");
+        let plan = stream::plan_files(&args.inputs(), &options, &pb);
+        pb.finish_and_clear();
+        (plan, gpu.join())
+    });
+    let plan = plan?;
     if let Some(lod) = &plan.lod {
         say(format!("{}: {lod}", args.inputs_name()));
     }
@@ -104,14 +116,18 @@ pub(super) fn rasterize(
     // GPU buffers no larger than the file needs.
     let to_draw = plan.lod.map_or(plan.declared, |l| l.points_read);
     let chunk_points = chunk_points.min(to_draw.max(1) as usize);
-    let setup = Instant::now();
-    let rasterizer = Rasterizer::new()?;
+    let waited = Instant::now();
+    let (rasterizer, setup) = match gpu {
+        Ok(made) => made?,
+        Err(panic) => std::panic::resume_unwind(panic),
+    };
     let frame = rasterizer.begin_chunked(settings, plan.color, chunk_points as u32)?;
     match rasterizer.pipeline_cache() {
         CacheStatus::Ignored { .. } => say(format!("warning: {}", rasterizer.pipeline_cache())),
         status => say(format!(
-            "GPU set up in {:.2?}: {} ({status})",
-            setup.elapsed(),
+            "GPU set up in {setup:.2?} alongside the plan, then {:.2?} for the frame: {} \
+             ({status})",
+            waited.elapsed(),
             rasterizer.adapter_name()
         )),
     }

@@ -71,9 +71,7 @@ impl Rasterizer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let views = settings.views();
-        // Every view of a frame draws in the same modes (the eyes differ only in sign).
-        let spec = Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0));
-        let pipelines = self.pipelines(spec)?;
+        let pipelines = self.pipelines(frame_specialisation(settings))?;
         // The eyes of a frame share their merge profiles: one table serves them all.
         debug_assert!(views.iter().all(|v| v.merging == views[0].merging));
         let table = pixel_trig::table(&settings.image, &views[0].merging);
@@ -108,6 +106,22 @@ impl Rasterizer {
             batches: 0,
             camera_offset: [0.0; 3],
         })
+    }
+}
+
+/// The modes the views of a frame under `settings` (its drawn settings: cube-map stereo's
+/// faces) are drawn in: every view alike, the eyes differing only in sign.
+fn frame_specialisation(settings: &RenderSettings) -> Specialisation {
+    let views = settings.views();
+    Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0))
+}
+
+impl Rasterizer {
+    /// Compiles the pipelines a frame under `settings` draws with, ahead of the frame: a
+    /// caller can do it while it reads the scene.
+    pub fn prepare(&self, settings: &RenderSettings) -> Result<(), RasterError> {
+        let drawn = cubemap_stereo::face_settings(settings).unwrap_or(*settings);
+        self.pipelines(frame_specialisation(&drawn)).map(drop)
     }
 }
 
