@@ -256,11 +256,7 @@ fn compute_splat_and_drawing_give_the_same_frames() {
             _ => panic!("ODS renders two eyes"),
         };
         for (a, b) in pairs {
-            let differ = (0..a.color.len())
-                .filter(|&k| {
-                    a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits()
-                })
-                .count();
+            let differ = differing_pixels(a, b);
             assert_eq!(
                 differ, 0,
                 "{shading:?}: {differ} pixels differ between splat and draw"

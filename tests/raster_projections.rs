@@ -387,11 +387,7 @@ fn compute_splat_and_drawing_agree_in_every_projection() {
         assert!(splat.1 > 300, "{p}: {} spheres splatted", splat.1);
         assert_eq!(drawn.1, 0);
         for (a, b) in splat.0.iter().zip(&drawn.0) {
-            let differ = (0..a.color.len())
-                .filter(|&k| {
-                    a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits()
-                })
-                .count();
+            let differ = raster_common::differing_pixels(a, b);
             assert_eq!(
                 differ, 0,
                 "{p}: {differ} pixels differ between splat and draw"

@@ -108,9 +108,7 @@ fn a_file_larger_than_the_survey_streams_exactly_like_the_in_core_render() {
     scene.radii = omnicloud::Radii::Uniform(radius);
     let (in_core, _) = raster.render(&scene, &s, &ProgressBar::hidden()).unwrap();
     let (a, b) = (mono(&in_core), mono(&streamed));
-    let differ = (0..a.color.len())
-        .filter(|&k| a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits())
-        .count();
+    let differ = raster_common::differing_pixels(a, b);
     assert_eq!(differ, 0, "{differ} pixels differ from the in-core render");
     // The lower hemisphere is ground; colours are the file's two tones, 16-bit scaled.
     let hits = a.color.iter().filter(|c| c[3] == 255).count();

@@ -75,16 +75,9 @@ pub struct ExpandPipeline {
 }
 
 impl ExpandPipeline {
-    /// Compiles the pipeline from `module` ([`source`]) with the pipeline `constants`;
-    /// `splat` when the module includes the compute splat (needs 64-bit atomics).
-    pub fn new(
-        device: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        splat: bool,
-        trig: &wgpu::BindGroupLayout,
-        constants: &[(&str, f64)],
-        cache: Option<&wgpu::PipelineCache>,
-    ) -> Self {
+    /// Compiles the pipeline from `src` (a [`source`] module); `splat` when the module
+    /// includes the compute splat (needs 64-bit atomics).
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, splat: bool) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
@@ -104,16 +97,16 @@ impl ExpandPipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("expand"),
-            bind_group_layouts: &[Some(&layout), Some(trig)],
+            bind_group_layouts: &[Some(&layout), Some(src.trig)],
             immediate_size: 0,
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("expand"),
             layout: Some(&pipeline_layout),
-            module,
+            module: src.module,
             entry_point: Some("expand"),
-            compilation_options: shaders::options(constants),
-            cache,
+            compilation_options: shaders::options(src.constants),
+            cache: src.cache,
         });
         ExpandPipeline {
             layout,

@@ -21,15 +21,8 @@ pub struct ImposterPipeline {
 }
 
 impl ImposterPipeline {
-    /// Compiles the pipeline from `module` with the pipeline `constants` (through `cache`
-    /// when given).
-    pub fn new(
-        device: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        trig: &wgpu::BindGroupLayout,
-        constants: &[(&str, f64)],
-        cache: Option<&wgpu::PipelineCache>,
-    ) -> Self {
+    /// Compiles the pipeline from `src`.
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -43,7 +36,7 @@ impl ImposterPipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("imposter"),
-            bind_group_layouts: &[Some(&layout), Some(trig)],
+            bind_group_layouts: &[Some(&layout), Some(src.trig)],
             immediate_size: 0,
         });
         let attributes = wgpu::vertex_attr_array![0 => Float32x2, 1 => Uint32, 2 => Uint32];
@@ -51,9 +44,9 @@ impl ImposterPipeline {
             label: Some("imposter"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
-                module,
+                module: src.module,
                 entry_point: Some("vs"),
-                compilation_options: shaders::options(constants),
+                compilation_options: shaders::options(src.constants),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: size_of::<ExpandedVertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
@@ -64,13 +57,13 @@ impl ImposterPipeline {
             depth_stencil: Some(targets::depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module,
+                module: src.module,
                 entry_point: Some("fs"),
-                compilation_options: shaders::options(constants),
+                compilation_options: shaders::options(src.constants),
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,
-            cache,
+            cache: src.cache,
         });
         ImposterPipeline { layout, pipeline }
     }

@@ -7,7 +7,10 @@
 //! shades each fragment as the sphere (exact ODS ray cast, or the paper's sprite) with a
 //! logarithmic depth test; small spheres are ray cast by the compute pass instead
 //! (`splat.rs`). Points live on the GPU relative to the camera centre, in chunks that fit one
-//! storage binding. [`Rasterizer`] holds the device and the pipelines; frames borrow it.
+//! storage binding. Rays of the equirect and cylindrical projections come from per-column and
+//! per-row tables (`pixel_trig.rs`). [`Rasterizer`] holds the device, the pipelines compiled
+//! per mode (`specialisation.rs`) and the last frame's buffers (`frame_buffers.rs`); frames
+//! borrow it.
 
 mod chunk;
 mod chunked_frame;

@@ -97,14 +97,18 @@ impl Rasterizer {
         let constants = spec.constants();
         let m = &self.modules;
         let pipelines = self.ctx.scoped("compiling the rasterizer shaders", || {
-            let c = cache.cache.as_ref();
             let trig = pixel_trig::layout(device);
-            let splat = self.ctx.int64_atomics;
+            let src = |module| shaders::PipelineSource {
+                module,
+                trig: &trig,
+                constants: &constants,
+                cache: cache.cache.as_ref(),
+            };
             Pipelines {
                 spec,
-                expand: ExpandPipeline::new(device, &m.expand, splat, &trig, &constants, c),
-                imposter: ImposterPipeline::new(device, &m.imposter, &trig, &constants, c),
-                resolve: ResolvePipeline::new(device, &m.resolve, &trig, &constants, c),
+                expand: ExpandPipeline::new(device, &src(&m.expand), self.ctx.int64_atomics),
+                imposter: ImposterPipeline::new(device, &src(&m.imposter)),
+                resolve: ResolvePipeline::new(device, &src(&m.resolve)),
                 trig_layout: trig,
             }
         })?;

@@ -51,6 +51,19 @@ pub fn module(device: &wgpu::Device, label: &str, source: String) -> wgpu::Shade
     })
 }
 
+/// What a rasterizer pipeline is compiled from: its module, the pixel trigonometry's layout
+/// (bind group 1), the pipeline constants and the pipeline cache.
+pub struct PipelineSource<'a> {
+    /// The composed module.
+    pub module: &'a wgpu::ShaderModule,
+    /// Layout of bind group 1 (`src/raster/pixel_trig.rs`).
+    pub trig: &'a wgpu::BindGroupLayout,
+    /// Pipeline-overridable constants (`src/raster/specialisation.rs`).
+    pub constants: &'a [(&'a str, f64)],
+    /// The driver's pipeline cache, when there is one.
+    pub cache: Option<&'a wgpu::PipelineCache>,
+}
+
 /// Compilation options that set the pipeline-overridable `constants`.
 pub fn options<'a>(constants: &'a [(&'a str, f64)]) -> wgpu::PipelineCompilationOptions<'a> {
     wgpu::PipelineCompilationOptions {

@@ -54,15 +54,8 @@ pub struct ResolvePipeline {
 }
 
 impl ResolvePipeline {
-    /// Compiles the pipeline from `module` with the pipeline `constants` (through `cache`
-    /// when given).
-    pub fn new(
-        device: &wgpu::Device,
-        module: &wgpu::ShaderModule,
-        trig: &wgpu::BindGroupLayout,
-        constants: &[(&str, f64)],
-        cache: Option<&wgpu::PipelineCache>,
-    ) -> Self {
+    /// Compiles the pipeline from `src`.
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
@@ -77,29 +70,29 @@ impl ResolvePipeline {
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("splat resolve"),
-            bind_group_layouts: &[Some(&layout), Some(trig)],
+            bind_group_layouts: &[Some(&layout), Some(src.trig)],
             immediate_size: 0,
         });
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("splat resolve"),
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
-                module,
+                module: src.module,
                 entry_point: Some("vs_fullscreen"),
-                compilation_options: shaders::options(constants),
+                compilation_options: shaders::options(src.constants),
                 buffers: &[],
             },
             primitive: wgpu::PrimitiveState::default(),
             depth_stencil: Some(targets::depth_test()),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
-                module,
+                module: src.module,
                 entry_point: Some("fs_resolve"),
-                compilation_options: shaders::options(constants),
+                compilation_options: shaders::options(src.constants),
                 targets: &targets::COLOR_TARGETS,
             }),
             multiview_mask: None,
-            cache,
+            cache: src.cache,
         });
         ResolvePipeline { layout, pipeline }
     }

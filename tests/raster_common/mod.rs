@@ -14,6 +14,13 @@ use rayon::prelude::*;
 
 pub use gpu::rasterizer;
 
+/// Pixels whose colour or depth bits differ between two frames of one size.
+pub fn differing_pixels(a: &Frame, b: &Frame) -> usize {
+    (0..a.color.len())
+        .filter(|&k| a.color[k] != b.color[k] || a.depth[k].to_bits() != b.depth[k].to_bits())
+        .count()
+}
+
 /// Reference pixel: nearest hit, its sphere, and the second-nearest distinct sphere's t.
 #[derive(Clone, Copy)]
 pub struct RefPixel {
