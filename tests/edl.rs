@@ -5,12 +5,10 @@ mod raster_common;
 
 use glam::DVec3;
 use indicatif::ProgressBar;
-use omnicloud::io::{LoadOptions, load_scene};
-use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::shading::{linear_to_srgb, srgb_to_linear};
 use omnicloud::render::{ColorMode, Edl, Look, RenderSettings};
-use omnicloud::{Frame, Radii, Rendered, Scene, raytrace};
+use omnicloud::{Frame, Rendered, raytrace};
 
 const GREY: [u8; 4] = [200, 200, 200, 255];
 
@@ -133,15 +131,6 @@ fn background_neighbours_do_not_darken_and_background_stays_transparent() {
     assert_eq!(out.color[out.index(62, 32)], [0, 0, 0, 0]);
 }
 
-fn autzen() -> Scene {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
-    let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, placement::CameraChoice::Center, None)
-        .expect("camera placed");
-    scene.radii = Radii::Uniform(radius::auto_radius(&scene));
-    scene
-}
-
 /// Pixels whose colour differs by more than one level in any channel, and the pixels that
 /// differ in coverage.
 fn differences(a: &Rendered, b: &Rendered) -> (usize, usize) {
@@ -170,7 +159,7 @@ fn both_renderers_give_the_same_edl_image() {
         edl: Some(Edl::default()),
         ..Look::default()
     };
-    let scene = autzen();
+    let scene = raster_common::autzen_at_centre();
     for stereo in [
         Stereo::Mono,
         Stereo::Ods {

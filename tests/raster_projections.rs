@@ -13,8 +13,6 @@ mod raster_common;
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::compare::{RegionStats, compare_eyes};
-use omnicloud::io::{LoadOptions, load_scene};
-use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::Rasterizer;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
@@ -122,15 +120,6 @@ fn agree(raster: &Rasterizer, scene: &Scene, s: &RenderSettings, label: &str) ->
     (worst_cov, worst_depth)
 }
 
-fn autzen() -> Scene {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
-    let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, None)
-        .expect("camera placed");
-    scene.radii = Radii::Uniform(radius::auto_radius(&scene));
-    scene
-}
-
 #[test]
 fn stress_scene_in_every_projection_matches_the_ray_tracer() {
     let Some(raster) = raster_common::rasterizer() else {
@@ -161,7 +150,7 @@ fn real_sample_in_every_projection_matches_the_ray_tracer() {
     let Some(raster) = raster_common::rasterizer() else {
         return;
     };
-    let scene = autzen();
+    let scene = raster_common::autzen_at_centre();
     let camera = Camera::new(DVec3::ZERO, 0.0);
     for p in PROJECTIONS {
         for (stereo_label, stereo) in [("mono", Stereo::Mono), ("ods", ods())] {

@@ -9,12 +9,10 @@ mod raster_common;
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::compare::{CompareReport, compare};
-use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::output::LinearImage;
-use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings};
-use omnicloud::{Radii, Rendered, Scene, raytrace};
+use omnicloud::{Rendered, Scene, raytrace};
 
 /// Coverage mismatches allowed per eye (measured: at most 1).
 const COVERAGE_MAX_PX: u64 = 2;
@@ -79,19 +77,10 @@ fn agree(scene: &Scene, settings: &RenderSettings, label: &str) -> Option<Compar
     Some(report)
 }
 
-fn autzen() -> Scene {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
-    let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, None)
-        .expect("camera placed");
-    scene.radii = Radii::Uniform(radius::auto_radius(&scene));
-    scene
-}
-
 #[test]
 fn real_sample_mono() {
     agree(
-        &autzen(),
+        &raster_common::autzen_at_centre(),
         &settings(1024, Stereo::Mono, ColorMode::Rgb),
         "autzen mono",
     );
@@ -101,7 +90,7 @@ fn real_sample_mono() {
 fn real_sample_ods_with_pole_merging() {
     let stereo = ods(PoleMerge::COMFORTABLE, PoleMerge::CYCLES_DEFAULT);
     agree(
-        &autzen(),
+        &raster_common::autzen_at_centre(),
         &settings(1024, stereo, ColorMode::Rgb),
         "autzen ods",
     );

@@ -6,6 +6,8 @@ pub mod gpu;
 
 use glam::{DVec3, Vec3};
 use omnicloud::compare::{RegionStats, Regions, compare_eyes};
+use omnicloud::io::{LoadOptions, load_scene};
+use omnicloud::prepare::{placement, radius};
 use omnicloud::projection::{Image, View};
 use omnicloud::render::RenderSettings;
 use omnicloud::rng::SplitMix64;
@@ -13,6 +15,17 @@ use omnicloud::{Attributes, Frame, Radii, Scene};
 use rayon::prelude::*;
 
 pub use gpu::rasterizer;
+
+/// The bundled Autzen sample, centred on a camera at the centre of its bounds (above the
+/// ground there), every sphere of the automatic radius.
+pub fn autzen_at_centre() -> Scene {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
+    let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
+    placement::center_on_camera(&mut scene, placement::CameraChoice::Center, None)
+        .expect("camera placed");
+    scene.radii = Radii::Uniform(radius::auto_radius(&scene));
+    scene
+}
 
 /// Pixels whose colour or depth bits differ between two frames of one size.
 pub fn differing_pixels(a: &Frame, b: &Frame) -> usize {
