@@ -124,18 +124,20 @@ impl Spare {
         ctx: &GpuContext,
         shape: FrameShape,
     ) -> Result<(FrameBuffers, bool), RasterError> {
-        let kept = {
+        let (kept, keep) = {
             let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
             s.frames_begun += 1;
-            let keep = s.frames_begun > 1;
             // A kept set of another shape is freed before the new one is allocated.
-            let kept = s.kept.take().filter(|b| b.shape == shape);
-            (kept, keep)
+            (
+                s.kept.take().filter(|b| b.shape == shape),
+                s.frames_begun > 1,
+            )
         };
-        match kept {
-            (Some(b), keep) => Ok((b, keep)),
-            (None, keep) => Ok((FrameBuffers::new(ctx, shape)?, keep)),
-        }
+        let buffers = match kept {
+            Some(b) => b,
+            None => FrameBuffers::new(ctx, shape)?,
+        };
+        Ok((buffers, keep))
     }
 
     /// Keeps `buffers` for the next frame.

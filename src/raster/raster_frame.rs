@@ -76,7 +76,7 @@ impl Rasterizer {
         debug_assert!(views.iter().all(|v| v.merging == views[0].merging));
         let table = pixel_trig::table(&settings.image, &views[0].merging);
         let trig = ctx.scoped("uploading the pixel trigonometry", || {
-            pixel_trig::bind(device, &pipelines.trig_layout, &table)
+            pixel_trig::bind(device, &self.trig_layout, &table)
         })?;
         let img = settings.image;
         let shape = FrameShape::new((img.width, img.height), views.len(), &sizing);
@@ -297,7 +297,7 @@ impl<'r> RasterFrame<'r> {
             }
         })?;
         let mut buffers = self.buffers;
-        let frames: Vec<Frame> = if self.keep {
+        let mut frames: Vec<Frame> = if self.keep {
             let frames = buffers
                 .targets
                 .iter_mut()
@@ -315,7 +315,6 @@ impl<'r> RasterFrame<'r> {
                 .map(|mut t| t.read(ctx, false))
                 .collect::<Result<_, _>>()?
         };
-        let mut frames = frames;
         let rendered = if frames.len() == 2 {
             let right = frames.pop().expect("two frames");
             let left = frames.pop().expect("two frames");

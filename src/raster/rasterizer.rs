@@ -22,8 +22,6 @@ pub(crate) struct Pipelines {
     pub(crate) expand: ExpandPipeline,
     pub(crate) imposter: ImposterPipeline,
     pub(crate) resolve: ResolvePipeline,
-    /// Layout of the pixel trigonometry all three bind as group 1.
-    pub(crate) trig_layout: wgpu::BindGroupLayout,
 }
 
 /// The shader modules every specialisation is compiled from.
@@ -37,6 +35,8 @@ struct Modules {
 pub struct Rasterizer {
     pub(crate) ctx: GpuContext,
     modules: Modules,
+    /// Layout of the pixel trigonometry every pipeline binds as group 1.
+    pub(crate) trig_layout: wgpu::BindGroupLayout,
     /// Pipelines compiled so far, by the modes they serve: only the modes a run draws.
     pipelines: Mutex<HashMap<Specialisation, Arc<Pipelines>>>,
     cache: Mutex<PipelineCache>,
@@ -66,15 +66,19 @@ impl Rasterizer {
         let hashed: Vec<&str> = sources.iter().map(String::as_str).collect();
         let cache = PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &hashed);
         let [expand, imposter, resolve] = sources;
-        let modules = ctx.scoped("loading the rasterizer shaders", || Modules {
-            expand: shaders::module(device, "expand.wgsl", expand),
-            imposter: shaders::module(device, "imposter.wgsl", imposter),
-            resolve: shaders::module(device, "splat_resolve.wgsl", resolve),
+        let (modules, trig_layout) = ctx.scoped("loading the rasterizer shaders", || {
+            let modules = Modules {
+                expand: shaders::module(device, "expand.wgsl", expand),
+                imposter: shaders::module(device, "imposter.wgsl", imposter),
+                resolve: shaders::module(device, "splat_resolve.wgsl", resolve),
+            };
+            (modules, pixel_trig::layout(device))
         })?;
         let pipeline_cache = cache.status().clone();
         Ok(Rasterizer {
             ctx,
             modules,
+            trig_layout,
             pipelines: Mutex::new(HashMap::new()),
             cache: Mutex::new(cache),
             spare: Mutex::new(Spare::default()),
@@ -97,10 +101,9 @@ impl Rasterizer {
         let constants = spec.constants();
         let m = &self.modules;
         let pipelines = self.ctx.scoped("compiling the rasterizer shaders", || {
-            let trig = pixel_trig::layout(device);
             let src = |module| shaders::PipelineSource {
                 module,
-                trig: &trig,
+                trig: &self.trig_layout,
                 constants: &constants,
                 cache: cache.cache.as_ref(),
             };
@@ -109,7 +112,6 @@ impl Rasterizer {
                 expand: ExpandPipeline::new(device, &src(&m.expand), self.ctx.int64_atomics),
                 imposter: ImposterPipeline::new(device, &src(&m.imposter)),
                 resolve: ResolvePipeline::new(device, &src(&m.resolve)),
-                trig_layout: trig,
             }
         })?;
         cache.save();
