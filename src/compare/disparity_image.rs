@@ -100,16 +100,13 @@ pub fn left_eye_disparity(
     image: &Image,
     model: Option<Stereo>,
 ) -> DisparityImage {
-    let parallel_of = |s: Stereo| match s {
-        Stereo::Cubemap { ipd, .. } => Stereo::Parallel { ipd },
-        s => s,
-    };
     let frame = rendered.frames()[0];
     let camera = settings.camera;
     let map = settings.depth_map;
-    let drawn = View::eye(camera, &parallel_of(settings.stereo), Eye::Left).with_depth_map(map);
+    // `View::eye` gives cube-map eyes their parallel cameras.
+    let drawn = View::eye(camera, &settings.stereo, Eye::Left).with_depth_map(map);
     let map = if model.is_none() { map } else { None };
-    let model = parallel_of(model.unwrap_or(settings.stereo));
+    let model = model.unwrap_or(settings.stereo);
     let left = View::eye(camera, &model, Eye::Left).with_depth_map(map);
     let right = View::eye(camera, &model, Eye::Right).with_depth_map(map);
     if drawn.depth_map.is_none() && left.depth_map.is_none() {
