@@ -1,6 +1,7 @@
 // Render pass: rasterizes the expanded proxies of one eye and shades each fragment as the
 // sphere it stands for. Driven by src/raster/imposter.rs. Prepended: the constants prelude,
-// camera, equirect, pole_merge, ods, depth_map, projection, params, chunk, shading, sphere.
+// camera, equirect, pole_merge, ods, depth_map, projection, params, chunk, shading, sphere,
+// shade_hit.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -27,12 +28,20 @@ fn vs(@location(0) xy: vec2<f32>, @location(1) uv: u32, @location(2) point: u32)
     return VertexOut(vec4<f32>(clip, 0.5, 1.0), unpack2x16snorm(uv), point);
 }
 
-// One fragment's shading; `hit` false where the fragment shows no sphere.
-struct Shaded {
-    hit: bool,
-    color: vec4<f32>,
-    distance: f32,
-    depth: f32,
+// Pixel `pos` (centre, pixels) seen for point `index`: its ray in the point's view and the
+// sphere (centre relative to C); `ok` false where the pixel has no ray.
+struct PixelCast {
+    ok: bool,
+    ray: Ray,
+    center: vec3<f32>,
+    radius: f32,
+}
+
+fn pixel_cast(pos: vec2<f32>, index: u32) -> PixelCast {
+    let pt = points[index];
+    let center = pt.position - params.camera_offset;
+    let pixel = pixel_ray(sphere_view(params, center), vec2<u32>(pos));
+    return PixelCast(pixel.ok, pixel.ray, center, pt.radius);
 }
 
 // Shades pixel `pos` (centre, pixels) as point `point` (| FORCE_RAYCAST: ray cast it); `uv` is
@@ -40,15 +49,13 @@ struct Shaded {
 fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
     let miss = Shaded(false, vec4<f32>(0.0), 0.0, 1.0);
     let index = point & ~FORCE_RAYCAST;
-    let pt = points[index];
-    let center = pt.position - params.camera_offset;
-    let radius = pt.radius;
-    let view = sphere_view(params, center);
-    let pixel = pixel_ray(view, vec2<u32>(pos));
-    if !pixel.ok {
+    let seen = pixel_cast(pos, index);
+    if !seen.ok {
         return miss;
     }
-    let r = pixel.ray;
+    let r = seen.ray;
+    let center = seen.center;
+    let radius = seen.radius;
     var t: f32;
     var normal: vec3<f32>;
     var hit: vec3<f32>;
@@ -65,29 +72,13 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
             return miss;
         }
         let dir = normalize(center);
-        let u = normalize(cross(dir, view.basis.up));
+        let u = normalize(cross(dir, sphere_view(params, center).basis.up));
         let v = cross(u, dir);
         normal = uv.x * u + uv.y * v - sqrt(1.0 - rr) * dir;
         hit = center + radius * normal;
         t = distance(hit, r.origin);
     }
     return shade_hit(index, r, t, hit, normal);
-}
-
-// Shades point `index` hit at distance `t` along ray `r`, at `hit` with outward `normal`.
-fn shade_hit(index: u32, r: Ray, t: f32, hit: vec3<f32>, outward: vec3<f32>) -> Shaded {
-    var normal = outward;
-    if dot(normal, r.dir) > 0.0 {
-        normal = -normal;
-    }
-    let base = unpack_color(colors[index]);
-    let l0 = Light(params.light0_position, params.light0_intensity);
-    let l1 = Light(params.light1_position, params.light1_intensity);
-    let c = shade(shading_of(params), base, normal, hit, r.origin, l0, l1);
-    let near = params.depth_near;
-    let far = params.depth_far;
-    let depth = clamp(log(t / near) / log(far / near), 0.0, 1.0);
-    return Shaded(true, vec4<f32>(c / 255.0, 1.0), t, depth);
 }
 
 @fragment

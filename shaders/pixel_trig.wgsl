@@ -5,7 +5,7 @@
 // loads instead of four f32 sines and cosines and the merge profile's power, and is the ray
 // tracer's ray rounded to f32. Columns first: (sin lam, cos lam, 0, 0); then rows:
 // (sin phi, cos phi, merge, 0).
-// Composed into the expand, imposter and splat resolve pipelines, after params.
+// Composed into the expand and imposter pipelines, after params.
 
 @group(1) @binding(0) var<storage, read> pixel_trig: array<vec4<f32>>;
 

@@ -1,13 +1,13 @@
 // Compute splat: a small sphere is ray cast here, pixel by pixel over its bounds, instead of
-// being rasterized; each hit keeps the nearest (distance, point) of its pixel with a 64-bit
-// atomicMax of the complemented key (!distance bits << 32 | !point index), so a cleared
-// (zero) buffer means "no hit" and the largest key is the nearest hit, ties to the lowest
-// index. The rays and the intersection are the imposter fragment stage's, so the result is
-// the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX. Appended to the expand
-// pipeline by src/raster/splat.rs; splat_resolve.wgsl merges the keys into the targets.
+// being rasterized; each hit keeps the nearest shaded hit of its pixel as a key
+// (splat_key.wgsl). The rays, the intersection and the shading are the keyed fragment stage's
+// (imposter_key.wgsl), so the result is the same per pixel. Needs SHADER_INT64 and
+// SHADER_INT64_ATOMIC_MIN_MAX. Appended to the expand pipeline by src/raster/splat.rs, after
+// shading, shade_hit and splat_key.
 
+// The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
-
+@group(0) @binding(6) var<storage, read> colors: array<u32>;
 // Ray casts `r` (analytic bounds, without margin) pixel by pixel when it spans at most
 // `params.splat_limit` pixels per side; false when it is too large (draw it instead).
 fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
@@ -36,11 +36,10 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     for (var y = i32(fy0); y <= i32(fy1); y++) {
         for (var x = x0; x <= x1; x++) {
             let xw = ((x % w) + w) % w;
-            let t = intersect_sphere(table_pixel_ray(view, vec2<u32>(u32(xw), u32(y))), s,
-                                     radius);
+            let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
+            let t = intersect_sphere(r, s, radius);
             if t > 0.0 {
-                let key = (u64(~bitcast<u32>(t)) << 32u) | u64(~idx);
-                atomicMax(&splat_keys[u32(y * w + xw)], key);
+                atomicMax(&splat_keys[u32(y * w + xw)], shaded_key(idx, r, t, s, radius));
             }
         }
     }
@@ -79,8 +78,8 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
                 }
                 let t = intersect_sphere(pixel.ray, s, radius);
                 if t > 0.0 {
-                    let key = (u64(~bitcast<u32>(t)) << 32u) | u64(~idx);
-                    atomicMax(&splat_keys[u32(y * w + x)], key);
+                    atomicMax(&splat_keys[u32(y * w + x)],
+                              shaded_key(idx, pixel.ray, t, s, radius));
                 }
             }
         }

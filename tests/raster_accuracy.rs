@@ -232,7 +232,8 @@ fn compute_splat_and_drawing_give_the_same_frames() {
         return;
     }
     let scene = stress_scene(1500);
-    // Every shading: the splat's resolve shades from the distance in its key.
+    // Every shading: the keyed path shades each hit into its pixel's key, the drawn path each
+    // fragment into the render targets.
     for shading in [Shading::Unlit, Shading::Phong, Shading::Normal] {
         let mut s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
         s.shading = shading;

@@ -47,7 +47,7 @@ pub fn source(splat: bool) -> String {
         IMAGE_BOUNDS,
         EXPAND,
         SPHERE,
-        splat::expand_part(splat),
+        &splat::expand_part(splat),
     ])
 }
 
@@ -63,8 +63,10 @@ pub struct ExpandBuffers<'a> {
     pub draw_args: &'a wgpu::Buffer,
     /// Per-eye `EyeStats`.
     pub stats: &'a wgpu::Buffer,
-    /// Splat keys (bound only when the pipeline splats).
+    /// The eye's keys (bound only when the pipeline splats).
     pub splat_keys: &'a wgpu::Buffer,
+    /// The chunk's colours (bound only when the pipeline splats, which shades).
+    pub colors: &'a wgpu::Buffer,
 }
 
 /// The expand pipeline and its bind group layout.
@@ -89,7 +91,7 @@ impl ExpandPipeline {
             entry(4, rw),
         ];
         if splat {
-            entries.push(entry(5, rw));
+            entries.extend([entry(5, rw), entry(6, Storage { read_only: true })]);
         }
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("expand"),
@@ -126,7 +128,7 @@ impl ExpandPipeline {
             shaders::bind(4, b.stats),
         ];
         if self.splat {
-            entries.push(shaders::bind(5, b.splat_keys));
+            entries.extend([shaders::bind(5, b.splat_keys), shaders::bind(6, b.colors)]);
         }
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("expand"),

@@ -1,13 +1,16 @@
-//! A frame's GPU memory: each eye's targets, the splat keys and the expand/draw work
+//! A frame's GPU memory: each eye's image (keys or render targets) and the expand/draw work
 //! buffers. A rasterizer that draws frame after frame of one shape keeps them (see
 //! [`Spare`]): fresh buffers cost a page fault and a zero-fill per page on every frame, which
 //! on a software adapter took longer than the expand pass.
 
 use std::sync::Mutex;
 
+use crate::frame::Frame;
+
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandedVertex;
+use super::key_targets::{KeyedAttachment, KeyedTargets};
 use super::params::Params;
 use super::sizing::FrameSizing;
 use super::splat;
@@ -26,8 +29,8 @@ pub struct FrameShape {
     pub eyes: usize,
     /// Vertices per batch.
     pub vertex_capacity: u32,
-    /// Bytes of the splat key buffer.
-    pub splat_key_bytes: u64,
+    /// Whether the images are keyed (see [`super::splat`]) rather than drawn.
+    pub keyed: bool,
 }
 
 impl FrameShape {
@@ -37,7 +40,7 @@ impl FrameShape {
             size,
             eyes,
             vertex_capacity: sizing.vertex_capacity,
-            splat_key_bytes: sizing.splat_key_bytes,
+            keyed: sizing.splat(),
         }
     }
 }
@@ -46,11 +49,10 @@ impl FrameShape {
 pub struct FrameBuffers {
     /// What they hold.
     pub shape: FrameShape,
-    /// Each eye's targets (and read-back buffers once read).
-    pub targets: Vec<EyeTargets>,
-    /// One key buffer, eye after eye (zero between eyes); a placeholder when the splat is
-    /// off.
-    pub splat_keys: wgpu::Buffer,
+    /// Each eye's image (and read-back buffers once read).
+    pub images: Images,
+    /// The keys an expand pass binds when the images are drawn (a placeholder).
+    pub unkeyed: wgpu::Buffer,
     /// `Params` uniform.
     pub params: wgpu::Buffer,
     /// Expanded proxy vertices.
@@ -65,13 +67,10 @@ impl FrameBuffers {
     /// Allocates the buffers of `shape` (zeroed by wgpu before first use).
     pub fn new(ctx: &GpuContext, shape: FrameShape) -> Result<Self, RasterError> {
         let device = &ctx.device;
-        let (w, h) = shape.size;
-        let targets = (0..shape.eyes)
-            .map(|_| EyeTargets::new(ctx, w, h))
-            .collect::<Result<Vec<_>, _>>()?;
-        let splat_keys = ctx.scoped("allocating splat buffers", || {
-            splat::key_buffer(device, shape.splat_key_bytes)
-        })?;
+        let images = Images::new(ctx, shape)?;
+        // The expand pipeline of a device with 64-bit atomics binds keys even when a frame
+        // draws into render targets.
+        let unkeyed = ctx.scoped("allocating splat buffers", || splat::key_buffer(device, 8))?;
         ctx.scoped("allocating work buffers", || {
             let make = |label, size: usize, usage| {
                 device.create_buffer(&wgpu::BufferDescriptor {
@@ -84,8 +83,8 @@ impl FrameBuffers {
             use wgpu::BufferUsages as U;
             FrameBuffers {
                 shape,
-                targets,
-                splat_keys,
+                images,
+                unkeyed,
                 params: make("params", size_of::<Params>(), U::UNIFORM | U::COPY_DST),
                 vertices: make(
                     "vertices",
@@ -104,6 +103,77 @@ impl FrameBuffers {
                 ),
             }
         })
+    }
+}
+
+/// Each eye's image: render targets that the imposters are drawn and shaded into, or on the
+/// keyed path the keys that the splat and the keyed draws write.
+pub enum Images {
+    /// Drawn and shaded into render targets.
+    Drawn(Vec<EyeTargets>),
+    /// Keys.
+    Keyed {
+        /// Each eye's image.
+        eyes: Vec<KeyedTargets>,
+        /// What the keyed draws of every eye rasterize into.
+        attachment: KeyedAttachment,
+    },
+}
+
+impl Images {
+    /// Allocates the images of `shape`.
+    fn new(ctx: &GpuContext, shape: FrameShape) -> Result<Self, RasterError> {
+        let (w, h) = shape.size;
+        Ok(if shape.keyed {
+            Images::Keyed {
+                eyes: (0..shape.eyes)
+                    .map(|_| KeyedTargets::new(ctx, w, h))
+                    .collect::<Result<_, _>>()?,
+                attachment: KeyedAttachment::new(ctx, w, h)?,
+            }
+        } else {
+            Images::Drawn(
+                (0..shape.eyes)
+                    .map(|_| EyeTargets::new(ctx, w, h))
+                    .collect::<Result<_, _>>()?,
+            )
+        })
+    }
+
+    /// The keys of eye `eye` on the keyed path.
+    pub fn keys(&self, eye: usize) -> Option<&wgpu::Buffer> {
+        match self {
+            Images::Drawn(_) => None,
+            Images::Keyed { eyes, .. } => Some(&eyes[eye].keys),
+        }
+    }
+
+    /// Records the clear of every eye's image.
+    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        match self {
+            Images::Drawn(eyes) => eyes.iter().for_each(|t| t.clear(encoder)),
+            Images::Keyed { eyes, .. } => eyes.iter().for_each(|t| t.clear(encoder)),
+        }
+    }
+
+    /// Reads every eye back, keeping the read-back buffers for the next frame.
+    pub fn read_kept(&mut self, ctx: &GpuContext) -> Result<Vec<Frame>, RasterError> {
+        match self {
+            Images::Drawn(eyes) => eyes.iter_mut().map(|t| t.read(ctx, true)).collect(),
+            Images::Keyed { eyes, .. } => eyes.iter_mut().map(|t| t.read(ctx, true)).collect(),
+        }
+    }
+
+    /// Reads every eye back, freeing each eye's memory as soon as it is read: the peak while
+    /// reading stays near one eye's read-back.
+    pub fn read_freed(self, ctx: &GpuContext) -> Result<Vec<Frame>, RasterError> {
+        match self {
+            Images::Drawn(eyes) => eyes.into_iter().map(|mut t| t.read(ctx, false)).collect(),
+            Images::Keyed { eyes, attachment } => {
+                drop(attachment);
+                eyes.into_iter().map(|mut t| t.read(ctx, false)).collect()
+            }
+        }
     }
 }
 

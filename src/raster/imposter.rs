@@ -1,17 +1,27 @@
 //! The imposter render pipeline (`shaders/imposter.wgsl`): rasterizes the expanded proxies of
-//! one eye and shades each fragment as the sphere it stands for.
+//! one eye and shades each fragment as the sphere it stands for, into render targets or, keyed
+//! (`shaders/imposter_key.wgsl`), into its pixel's key (see [`super::splat`]).
 
 use super::expand::ExpandedVertex;
 use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
+use super::splat::{SHADE_HIT, SPLAT_KEY};
 use super::targets;
 
 /// `shaders/imposter.wgsl`.
-pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
+const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
+/// `shaders/imposter_key.wgsl`: the keyed fragment stage.
+const IMPOSTER_KEY: &str = include_str!("../../shaders/imposter_key.wgsl");
 
-/// Source of the imposter module.
-pub fn source() -> String {
-    shaders::compose(&[PARAMS, PIXEL_TRIG, CHUNK, SHADING, SPHERE, IMPOSTER])
+/// Source of the imposter module; with `int64_atomics`, the keyed fragment stage too.
+pub fn source(int64_atomics: bool) -> String {
+    let mut parts = vec![
+        PARAMS, PIXEL_TRIG, CHUNK, SHADING, SPHERE, SHADE_HIT, IMPOSTER,
+    ];
+    if int64_atomics {
+        parts.extend([SPLAT_KEY, IMPOSTER_KEY]);
+    }
+    shaders::compose(&parts)
 }
 
 /// The imposter pipeline and its bind group layout.
@@ -21,18 +31,27 @@ pub struct ImposterPipeline {
 }
 
 impl ImposterPipeline {
-    /// Compiles the pipeline from `src`.
-    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
+    /// Compiles the pipeline from `src`: shading into [`targets::EyeTargets`], or `keyed`,
+    /// keeping nearest-hit keys (the module must have the keyed stage).
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
         let read = Storage { read_only: true };
+        let mut entries = vec![
+            shaders::buffer_layout(0, S::VERTEX_FRAGMENT, Uniform),
+            shaders::buffer_layout(1, S::FRAGMENT, read),
+            shaders::buffer_layout(2, S::FRAGMENT, read),
+        ];
+        if keyed {
+            entries.push(shaders::buffer_layout(
+                3,
+                S::FRAGMENT,
+                Storage { read_only: false },
+            ));
+        }
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("imposter"),
-            entries: &[
-                shaders::buffer_layout(0, S::VERTEX_FRAGMENT, Uniform),
-                shaders::buffer_layout(1, S::FRAGMENT, read),
-                shaders::buffer_layout(2, S::FRAGMENT, read),
-            ],
+            entries: &entries,
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("imposter"),
@@ -54,13 +73,17 @@ impl ImposterPipeline {
                 })],
             },
             primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(targets::depth_test()),
+            depth_stencil: (!keyed).then(targets::depth_test),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState {
                 module: src.module,
-                entry_point: Some("fs"),
+                entry_point: Some(if keyed { "fs_key" } else { "fs" }),
                 compilation_options: shaders::options(src.constants),
-                targets: &targets::COLOR_TARGETS,
+                targets: if keyed {
+                    &targets::KEYED_TARGETS
+                } else {
+                    &targets::COLOR_TARGETS
+                },
             }),
             multiview_mask: None,
             cache: src.cache,
@@ -68,22 +91,26 @@ impl ImposterPipeline {
         ImposterPipeline { layout, pipeline }
     }
 
-    /// Binds the `Params` uniform and a chunk's points and colours.
+    /// Binds the `Params` uniform, a chunk's points and colours, and for a keyed pipeline the
+    /// keys.
     pub fn bind(
         &self,
         device: &wgpu::Device,
         params: &wgpu::Buffer,
         points: &wgpu::Buffer,
         colors: &wgpu::Buffer,
+        keys: Option<&wgpu::Buffer>,
     ) -> wgpu::BindGroup {
+        let mut entries = vec![
+            shaders::bind(0, params),
+            shaders::bind(1, points),
+            shaders::bind(2, colors),
+        ];
+        entries.extend(keys.map(|k| shaders::bind(3, k)));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("imposter"),
             layout: &self.layout,
-            entries: &[
-                shaders::bind(0, params),
-                shaders::bind(1, points),
-                shaders::bind(2, colors),
-            ],
+            entries: &entries,
         })
     }
 

@@ -48,7 +48,7 @@ pub fn table(image: &Image, merging: &PoleMerging) -> Vec<TrigEntry> {
     columns.chain(rows).collect()
 }
 
-/// Layout of bind group 1 of the expand, imposter and splat resolve pipelines: the table.
+/// Layout of bind group 1 of the expand and imposter pipelines: the table.
 pub fn layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     use wgpu::ShaderStages as S;
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

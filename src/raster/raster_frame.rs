@@ -14,11 +14,11 @@ use crate::render::{Proxy, RenderSettings, cubemap_stereo};
 use super::chunk::GpuChunk;
 use super::error::RasterError;
 use super::expand::{ExpandBuffers, empty_draw_args};
-use super::frame_buffers::{FrameBuffers, FrameShape, MAX_EYES, Spare};
+use super::frame_buffers::{FrameBuffers, FrameShape, Images, MAX_EYES, Spare};
 use super::params::Params;
 use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
-use super::sizing::FrameSizing;
+use super::sizing::{FrameSizing, splats};
 use super::specialisation::Specialisation;
 use super::stats::{EyeStats, RasterStats};
 use super::targets::map_read;
@@ -71,7 +71,7 @@ impl Rasterizer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let views = settings.views();
-        let pipelines = self.pipelines(frame_specialisation(settings))?;
+        let pipelines = self.pipelines(frame_specialisation(settings), sizing.splat())?;
         // The eyes of a frame share their merge profiles: one table serves them all.
         debug_assert!(views.iter().all(|v| v.merging == views[0].merging));
         let table = pixel_trig::table(&settings.image, &views[0].merging);
@@ -83,13 +83,9 @@ impl Rasterizer {
         let (buffers, keep) = Spare::take(&self.spare, ctx, shape)?;
         let clock = FrameClock::new(ctx);
 
-        // The splat keys need no clear: new buffers start zeroed, and a frame leaves its keys
-        // zeroed after each eye's resolve.
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&buffers.stats, 0, None);
-        for t in &buffers.targets {
-            t.clear(&mut encoder);
-        }
+        buffers.images.clear(&mut encoder);
         ctx.queue.submit([encoder.finish()]);
 
         Ok(RasterFrame {
@@ -121,7 +117,9 @@ impl Rasterizer {
     /// caller can do it while it reads the scene.
     pub fn prepare(&self, settings: &RenderSettings) -> Result<(), RasterError> {
         let drawn = cubemap_stereo::face_settings(settings).unwrap_or(*settings);
-        self.pipelines(frame_specialisation(&drawn)).map(drop)
+        let keyed = splats(&self.caps(), self.knobs(), &drawn);
+        self.pipelines(frame_specialisation(&drawn), keyed)
+            .map(drop)
     }
 }
 
@@ -177,38 +175,38 @@ impl<'r> RasterFrame<'r> {
         let r = &*self.pipelines;
         let ctx = &self.rasterizer.ctx;
         let device = &ctx.device;
-        let keys = &self.buffers.splat_keys;
-        let (expand_bg, draw_bg, resolve_bg) = ctx.scoped("binding a chunk", || {
-            let expand_bg = r.expand.bind(
-                device,
-                &ExpandBuffers {
-                    params: &self.buffers.params,
-                    points: &chunk.points,
-                    vertices: &self.buffers.vertices,
-                    draw_args: &self.buffers.draw_args,
-                    stats: &self.buffers.stats,
-                    splat_keys: keys,
-                },
-            );
-            let resolve_bg = self.sizing.splat().then(|| {
-                r.resolve.bind(
-                    device,
-                    &self.buffers.params,
-                    &chunk.points,
-                    &chunk.colors,
-                    keys,
-                )
-            });
-            let draw_bg =
-                r.imposter
-                    .bind(device, &self.buffers.params, &chunk.points, &chunk.colors);
-            (expand_bg, draw_bg, resolve_bg)
+        let images = &self.buffers.images;
+        // Per eye: on the keyed path each eye's keys are its image.
+        let bind_groups = ctx.scoped("binding a chunk", || {
+            (0..self.views.len())
+                .map(|eye| {
+                    let keys = images.keys(eye);
+                    let expand = r.expand.bind(
+                        device,
+                        &ExpandBuffers {
+                            params: &self.buffers.params,
+                            points: &chunk.points,
+                            vertices: &self.buffers.vertices,
+                            draw_args: &self.buffers.draw_args,
+                            stats: &self.buffers.stats,
+                            splat_keys: keys.unwrap_or(&self.buffers.unkeyed),
+                            colors: &chunk.colors,
+                        },
+                    );
+                    let draw = r.imposter.bind(
+                        device,
+                        &self.buffers.params,
+                        &chunk.points,
+                        &chunk.colors,
+                        keys,
+                    );
+                    (expand, draw)
+                })
+                .collect::<Vec<_>>()
         })?;
         self.clock.start();
         let vertex_capacity = self.sizing.vertex_capacity;
-        // Eye by eye, so that one splat key buffer serves both: its keys index this chunk's
-        // points for this eye and are merged (and cleared) before the next.
-        for (eye, (view, target)) in self.views.iter().zip(&self.buffers.targets).enumerate() {
+        for (eye, (view, (expand_bg, draw_bg))) in self.views.iter().zip(&bind_groups).enumerate() {
             let mut first = 0u32;
             while first < chunk.len {
                 let count = (chunk.len - first).min(self.sizing.batch_points);
@@ -231,12 +229,15 @@ impl<'r> RasterFrame<'r> {
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let writes = self.clock.first_pass_writes(self.batches == 0);
                 r.expand
-                    .dispatch(&mut encoder, &expand_bg, &self.trig, count, writes);
+                    .dispatch(&mut encoder, expand_bg, &self.trig, count, writes);
                 {
-                    let mut pass = target.begin_pass(&mut encoder, false, None);
+                    let mut pass = match images {
+                        Images::Drawn(eyes) => eyes[eye].begin_pass(&mut encoder, false, None),
+                        Images::Keyed { attachment, .. } => attachment.begin_pass(&mut encoder),
+                    };
                     r.imposter.draw(
                         &mut pass,
-                        &draw_bg,
+                        draw_bg,
                         &self.trig,
                         &self.buffers.vertices,
                         &self.buffers.draw_args,
@@ -248,22 +249,6 @@ impl<'r> RasterFrame<'r> {
                 progress.inc(count as u64);
                 self.batches += 1;
                 first += count;
-            }
-            if let Some(bg) = &resolve_bg {
-                let params = Params {
-                    camera_offset: self.camera_offset,
-                    ..Params::new(view, &self.settings, eye as u32, (0, 0), vertex_capacity)
-                };
-                ctx.queue
-                    .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
-                let mut encoder = device.create_command_encoder(&Default::default());
-                {
-                    let mut pass = target.begin_pass(&mut encoder, false, None);
-                    r.resolve.draw(&mut pass, bg, &self.trig);
-                }
-                encoder.clear_buffer(keys, 0, None);
-                ctx.queue.submit([encoder.finish()]);
-                ctx.wait("resolving splatted spheres")?;
             }
         }
         Ok(())
@@ -298,22 +283,14 @@ impl<'r> RasterFrame<'r> {
         })?;
         let mut buffers = self.buffers;
         let mut frames: Vec<Frame> = if self.keep {
-            let frames = buffers
-                .targets
-                .iter_mut()
-                .map(|t| t.read(ctx, true))
-                .collect::<Result<_, _>>()?;
+            let frames = buffers.images.read_kept(ctx)?;
             Spare::put(&self.rasterizer.spare, buffers);
             frames
         } else {
-            // The work buffers are no longer needed, and each eye's textures go as soon as its
+            // The work buffers are no longer needed, and each eye's image goes as soon as its
             // frame is read back: the peak while reading stays near one eye's read-back.
-            drop((buffers.splat_keys, buffers.vertices));
-            buffers
-                .targets
-                .into_iter()
-                .map(|mut t| t.read(ctx, false))
-                .collect::<Result<_, _>>()?
+            drop(buffers.vertices);
+            buffers.images.read_freed(ctx)?
         };
         let rendered = if frames.len() == 2 {
             let right = frames.pop().expect("two frames");

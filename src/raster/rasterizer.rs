@@ -14,21 +14,20 @@ use super::pixel_trig;
 use super::shaders;
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::specialisation::Specialisation;
-use super::splat::{DEFAULT_SPLAT_LIMIT, ResolvePipeline};
+use super::splat::DEFAULT_SPLAT_LIMIT;
 
-/// The pipelines a frame draws with, compiled for one [`Specialisation`].
+/// The pipelines a frame draws with, compiled for one [`Specialisation`] and path.
 pub(crate) struct Pipelines {
     pub(crate) spec: Specialisation,
     pub(crate) expand: ExpandPipeline,
+    /// Keyed on the keyed path ([`super::splat`]), else shading into render targets.
     pub(crate) imposter: ImposterPipeline,
-    pub(crate) resolve: ResolvePipeline,
 }
 
 /// The shader modules every specialisation is compiled from.
 struct Modules {
     expand: wgpu::ShaderModule,
     imposter: wgpu::ShaderModule,
-    resolve: wgpu::ShaderModule,
 }
 
 /// A GPU imposter-sphere rasterizer bound to one device; reusable across renders.
@@ -37,8 +36,9 @@ pub struct Rasterizer {
     modules: Modules,
     /// Layout of the pixel trigonometry every pipeline binds as group 1.
     pub(crate) trig_layout: wgpu::BindGroupLayout,
-    /// Pipelines compiled so far, by the modes they serve: only the modes a run draws.
-    pipelines: Mutex<HashMap<Specialisation, Arc<Pipelines>>>,
+    /// Pipelines compiled so far, by the modes they serve and whether they are keyed: only
+    /// the modes a run draws.
+    pipelines: Mutex<HashMap<(Specialisation, bool), Arc<Pipelines>>>,
     cache: Mutex<PipelineCache>,
     /// The last frame's buffers, for the next frame of its shape.
     pub(crate) spare: Mutex<Spare>,
@@ -60,17 +60,15 @@ impl Rasterizer {
         let device = &ctx.device;
         let sources = [
             super::expand::source(ctx.int64_atomics),
-            super::imposter::source(),
-            super::splat::resolve_source(),
+            super::imposter::source(ctx.int64_atomics),
         ];
         let hashed: Vec<&str> = sources.iter().map(String::as_str).collect();
         let cache = PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &hashed);
-        let [expand, imposter, resolve] = sources;
+        let [expand, imposter] = sources;
         let (modules, trig_layout) = ctx.scoped("loading the rasterizer shaders", || {
             let modules = Modules {
                 expand: shaders::module(device, "expand.wgsl", expand),
                 imposter: shaders::module(device, "imposter.wgsl", imposter),
-                resolve: shaders::module(device, "splat_resolve.wgsl", resolve),
             };
             (modules, pixel_trig::layout(device))
         })?;
@@ -90,10 +88,15 @@ impl Rasterizer {
         })
     }
 
-    /// The pipelines for `spec`, compiled (and the pipeline cache saved) on first use.
-    pub(crate) fn pipelines(&self, spec: Specialisation) -> Result<Arc<Pipelines>, RasterError> {
+    /// The pipelines for `spec`, `keyed` or not, compiled (and the pipeline cache saved) on
+    /// first use.
+    pub(crate) fn pipelines(
+        &self,
+        spec: Specialisation,
+        keyed: bool,
+    ) -> Result<Arc<Pipelines>, RasterError> {
         let mut compiled = lock(&self.pipelines);
-        if let Some(p) = compiled.get(&spec) {
+        if let Some(p) = compiled.get(&(spec, keyed)) {
             return Ok(p.clone());
         }
         let mut cache = lock(&self.cache);
@@ -110,18 +113,18 @@ impl Rasterizer {
             Pipelines {
                 spec,
                 expand: ExpandPipeline::new(device, &src(&m.expand), self.ctx.int64_atomics),
-                imposter: ImposterPipeline::new(device, &src(&m.imposter)),
-                resolve: ResolvePipeline::new(device, &src(&m.resolve)),
+                imposter: ImposterPipeline::new(device, &src(&m.imposter), keyed),
             }
         })?;
         cache.save();
         let pipelines = Arc::new(pipelines);
-        compiled.insert(spec, pipelines.clone());
+        compiled.insert((spec, keyed), pipelines.clone());
         Ok(pipelines)
     }
 
     /// How many sets of pipelines (one per combination of projection, eyes, eye model, ODS
-    /// offset, depth map, proxy, imposter and shading) have been compiled so far.
+    /// offset, depth map, proxy, imposter and shading, keyed or not) have been compiled so
+    /// far.
     pub fn compiled_pipelines(&self) -> usize {
         lock(&self.pipelines).len()
     }

@@ -149,8 +149,8 @@ mod tests {
     fn every_composed_shader_parses_and_validates() {
         validate("expand + splat", &super::super::expand::source(true));
         validate("expand + splat_off", &super::super::expand::source(false));
-        validate("imposter", &super::super::imposter::source());
-        validate("splat resolve", &super::super::splat::resolve_source());
+        validate("imposter", &super::super::imposter::source(false));
+        validate("imposter + keyed", &super::super::imposter::source(true));
         validate("probe", &super::super::probe::source());
     }
 }

@@ -1,5 +1,6 @@
-//! How a frame's work is cut to the device: points per chunk, whether small spheres are
-//! splatted, the vertex and splat-key buffer sizes and the points per expand batch. Pure
+//! How a frame's work is cut to the device: points per chunk, whether the frame takes the
+//! keyed path (small spheres splatted), the vertex buffer size and the points per expand
+//! batch. Pure
 //! functions of the device limits and the request.
 
 use crate::projection::Projection;
@@ -73,15 +74,29 @@ pub struct Knobs {
     pub batch_limit: Option<u32>,
 }
 
+/// Bytes of the splat keys of one eye under `settings`: one `u64` per pixel.
+fn key_bytes(settings: &RenderSettings) -> u64 {
+    let img = settings.image;
+    img.width as u64 * img.height as u64 * size_of::<u64>() as u64
+}
+
+/// Whether a frame under `settings` takes the keyed path ([`super::splat`]): ray-cast
+/// imposters on analytic bounds, a device with 64-bit atomics, the splat on and one eye's
+/// keys within a storage binding.
+pub fn splats(caps: &DeviceCaps, knobs: &Knobs, settings: &RenderSettings) -> bool {
+    caps.int64_atomics
+        && knobs.splat_limit > 0
+        && settings.proxy == Proxy::Bounds
+        && settings.imposter == Imposter::Raycast
+        && key_bytes(settings) <= caps.max_storage_buffer()
+}
+
 /// How one frame is cut into GPU work.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FrameSizing {
     /// Largest sphere the compute splat ray casts, pixels per side of its bounds; 0 when the
     /// splat is off for this frame.
     pub splat_limit: u32,
-    /// Bytes of the splat key buffer (one `u64` per pixel of one eye; a placeholder when the
-    /// splat is off).
-    pub splat_key_bytes: u64,
     /// Vertices the expand pass may write per batch.
     pub vertex_capacity: u32,
     /// Points per expand dispatch.
@@ -110,13 +125,7 @@ impl FrameSizing {
                 "the map projection needs its extent from the scene's bounds (Image::map)".into(),
             ));
         }
-        let img = settings.image;
-        let key_bytes = img.width as u64 * img.height as u64 * size_of::<u64>() as u64;
-        let splat = caps.int64_atomics
-            && knobs.splat_limit > 0
-            && settings.proxy == Proxy::Bounds
-            && settings.imposter == Imposter::Raycast
-            && key_bytes <= caps.max_storage_buffer();
+        let splat = splats(caps, knobs, settings);
 
         let vertex_bytes = size_of::<ExpandedVertex>() as u64;
         let per_point = max_vertices_per_point(settings.proxy, &projection);
@@ -144,7 +153,6 @@ impl FrameSizing {
         }
         Ok(FrameSizing {
             splat_limit: if splat { knobs.splat_limit } else { 0 },
-            splat_key_bytes: if splat { key_bytes } else { 8 },
             vertex_capacity: vertex_capacity as u32,
             batch_points: batch as u32,
         })
@@ -211,7 +219,6 @@ mod tests {
             s,
             FrameSizing {
                 splat_limit: 16,
-                splat_key_bytes: 3840 * 1920 * 8,
                 // 128 MiB of 16-byte vertices, 12 per point, rounded down to whole points.
                 vertex_capacity: 699_050 * 12,
                 batch_points: 699_050,
@@ -224,14 +231,14 @@ mod tests {
     fn the_splat_is_off_when_its_keys_exceed_a_binding_or_the_device_lacks_atomics() {
         // 8192 x 4096 x 8 bytes = 256 MiB > 128 MiB.
         let s = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &bounds(8192), 1000).unwrap();
-        assert_eq!((s.splat_limit, s.splat_key_bytes), (0, 8));
+        assert_eq!(s.splat_limit, 0);
         assert!(!s.splat());
         let no_atomics = DeviceCaps {
             int64_atomics: false,
             ..LAVAPIPE
         };
         let s = FrameSizing::new(&no_atomics, &DEFAULT_KNOBS, &bounds(512), 1000).unwrap();
-        assert_eq!((s.splat_limit, s.splat_key_bytes), (0, 8));
+        assert_eq!(s.splat_limit, 0);
         let off = Knobs {
             splat_limit: 0,
             ..DEFAULT_KNOBS
@@ -318,7 +325,7 @@ mod tests {
         let f = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100).unwrap();
         // Up to six face rectangles of six vertices each.
         assert_eq!((f.batch_points, f.vertex_capacity), (100, 100 * 36));
-        assert_eq!(f.splat_key_bytes, 384 * 64 * 8);
+        assert!(f.splat());
         s.image = Image::new(Projection::Hammer, 384).unwrap();
         let f = FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, &s, 100).unwrap();
         assert_eq!(f.vertex_capacity, 100 * 12);

@@ -27,6 +27,14 @@ pub const COLOR_TARGETS: [Option<wgpu::ColorTargetState>; 2] = [
     }),
 ];
 
+/// The one attachment of a keyed draw ([`super::key_targets`]): a pass needs one to
+/// rasterize, but its fragments write keys, not colour.
+pub const KEYED_TARGETS: [Option<wgpu::ColorTargetState>; 1] = [Some(wgpu::ColorTargetState {
+    format: wgpu::TextureFormat::R8Unorm,
+    blend: None,
+    write_mask: wgpu::ColorWrites::empty(),
+})];
+
 /// Nearest fragment wins; every pipeline drawing into [`EyeTargets`] writes the logarithmic
 /// depth it tests.
 pub fn depth_test() -> wgpu::DepthStencilState {

@@ -1,0 +1,160 @@
+//! One eye's image on the keyed path ([`super::splat`]): a key per pixel, which the splat and
+//! the keyed draws write and which holds the pixel's distance and colour, and the attachment
+//! the keyed draws rasterize into.
+
+use crate::frame::Frame;
+
+use super::context::GpuContext;
+use super::error::RasterError;
+use super::splat::key_buffer;
+use super::targets::{KEYED_TARGETS, map_read_with};
+
+/// The keys of one eye, row by row: `!distance bits << 32 | RGBA8`, 0 where nothing shows.
+pub struct KeyedTargets {
+    width: u32,
+    height: u32,
+    /// The keys.
+    pub keys: wgpu::Buffer,
+    /// Their read-back buffer, kept between reads of a reused frame.
+    readback: Option<wgpu::Buffer>,
+}
+
+impl KeyedTargets {
+    /// Allocates the keys of a `width x height` eye.
+    pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
+        let bytes = width as u64 * height as u64 * size_of::<u64>() as u64;
+        ctx.scoped("allocating splat keys", || KeyedTargets {
+            width,
+            height,
+            keys: key_buffer(&ctx.device, bytes),
+            readback: None,
+        })
+    }
+
+    /// Records the clear of the image to nothing shown.
+    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.keys, 0, None);
+    }
+
+    /// Copies the keys back and decodes them into a [`Frame`]; `keep` keeps the read-back
+    /// buffer for the next read.
+    pub fn read(&mut self, ctx: &GpuContext, keep: bool) -> Result<Frame, RasterError> {
+        let readback = match self.readback.take() {
+            Some(b) => b,
+            None => ctx.scoped("allocating the read-back buffer", || {
+                ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("key read-back"),
+                    size: self.keys.size(),
+                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                    mapped_at_creation: false,
+                })
+            })?,
+        };
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(&self.keys, 0, &readback, 0, None);
+        ctx.queue.submit([encoder.finish()]);
+        let (w, h) = (self.width, self.height);
+        let frame = map_read_with(ctx, &readback, "reading back the image", |keys| {
+            let mut frame = Frame::new(w, h);
+            for (k, key) in keys.chunks_exact(8).enumerate() {
+                let key = u64::from_le_bytes(key.try_into().expect("8 bytes"));
+                if let Some((color, distance)) = decode_key(key) {
+                    frame.color[k] = color;
+                    frame.depth[k] = distance;
+                }
+            }
+            frame
+        });
+        if keep {
+            self.readback = Some(readback);
+        }
+        frame
+    }
+}
+
+/// The colour and distance a key holds (`shaders/splat_key.wgsl`); `None` for no hit.
+fn decode_key(key: u64) -> Option<([u8; 4], f32)> {
+    (key != 0).then(|| {
+        let [r, g, b, _] = (key as u32).to_le_bytes();
+        ([r, g, b, 255], f32::from_bits(!((key >> 32) as u32)))
+    })
+}
+
+/// What a keyed draw rasterizes into: one attachment of the image's size that no fragment
+/// writes (its fragments keep keys instead), shared by the eyes of a frame.
+pub struct KeyedAttachment {
+    _texture: wgpu::Texture,
+    view: wgpu::TextureView,
+}
+
+impl KeyedAttachment {
+    /// Allocates the attachment of a `width x height` eye.
+    pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
+        let max = ctx.limits.max_texture_dimension_2d;
+        if width > max || height > max {
+            return Err(RasterError::Limit {
+                what: format!("a {width}x{height} image"),
+                needed: width.max(height) as u64,
+                limit: max as u64,
+            });
+        }
+        let format = KEYED_TARGETS[0].as_ref().expect("one target").format;
+        ctx.scoped("allocating the draw attachment", || {
+            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("keyed draw attachment"),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                view_formats: &[],
+            });
+            let view = texture.create_view(&Default::default());
+            KeyedAttachment {
+                _texture: texture,
+                view,
+            }
+        })
+    }
+
+    /// Begins a render pass of keyed draws.
+    pub fn begin_pass<'e>(&self, encoder: &'e mut wgpu::CommandEncoder) -> wgpu::RenderPass<'e> {
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("keyed imposters"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Discard,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_decode_as_the_shaders_encode_them() {
+        assert_eq!(decode_key(0), None);
+        // hit_key(2.5, (10, 20, 30, 255) / 255)
+        let key = ((!2.5f32.to_bits() as u64) << 32) | u32::from_le_bytes([10, 20, 30, 255]) as u64;
+        assert_eq!(decode_key(key), Some(([10, 20, 30, 255], 2.5)));
+        // The nearer hit has the larger key.
+        let far = ((!3.0f32.to_bits() as u64) << 32) | 0xff00_0000;
+        assert!(key > far);
+    }
+}
