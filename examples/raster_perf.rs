@@ -4,7 +4,7 @@
 //! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
 //! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`; `splat` is
 //! the compute splat's limit in pixels, 0 off; `rt` also times the CPU ray tracer on the same
-//! cloud). Prints the adapter, the timing source (GPU timestamps or wall clock) and, per
+//! cloud; `--shading unlit|phong|normal`, default phong). Prints the adapter, the timing source (GPU timestamps or wall clock) and, per
 //! mode, mono and ODS frame times.
 
 use clap::{Parser, ValueEnum};
@@ -65,6 +65,9 @@ struct Args {
     splat: Option<u32>,
     /// `rt`: also time the CPU ray tracer on the same cloud.
     rt: Option<RayTracer>,
+    /// Shading of both renderers.
+    #[arg(long, default_value = "phong")]
+    shading: Shading,
 }
 
 /// The one value of the last argument.
@@ -81,6 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         modes,
         splat,
         rt,
+        shading,
     } = Args::parse();
     let modes: Option<Vec<String>> =
         modes.map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
@@ -98,7 +102,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = cloud(points);
     let mut base = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));
     base.color = ColorMode::Elevation;
-    base.shading = Shading::Phong;
+    base.shading = shading;
     let uploaded = raster.upload(&scene, &base)?;
     println!(
         "{points} points, {width}x{} per eye, best of {frames} frames",

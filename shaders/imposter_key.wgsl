@@ -18,6 +18,6 @@ fn fs_key(in: VertexOut) {
         let pixel = vec2<u32>(in.position.xy);
         let width = u32(params.image_size.x);
         atomicMax(&splat_keys[pixel.y * width + pixel.x],
-                  shaded_key(index, seen.ray, t, seen.center, seen.radius));
+                  hit_key(index, seen.ray, t, seen.center, seen.radius));
     }
 }

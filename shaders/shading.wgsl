@@ -29,15 +29,15 @@ fn linear_to_srgb(l_in: f32) -> f32 {
     return floor(c * 255.0 + 0.5);
 }
 
-// Shading modes: 0 unlit, 1 phong, 2 normal. `base` holds sRGB bytes; returns sRGB bytes.
+// Shading modes: SHADING_UNLIT, SHADING_PHONG, SHADING_NORMAL. `base` holds sRGB bytes; returns sRGB bytes.
 // `normal_in` faces the viewer and is normalised here, as in the Rust shade().
 fn shade(mode: u32, base: vec3<f32>, normal_in: vec3<f32>, hit: vec3<f32>, eye: vec3<f32>,
          l0: Light, l1: Light) -> vec3<f32> {
     let normal = normalize_or_zero(normal_in);
-    if mode == 2u {
+    if mode == SHADING_NORMAL {
         return floor((normal * 0.5 + 0.5) * 255.0 + 0.5);
     }
-    if mode != 1u {
+    if mode != SHADING_PHONG {
         return base;
     }
     let albedo = vec3<f32>(srgb_to_linear(base.x), srgb_to_linear(base.y), srgb_to_linear(base.z));

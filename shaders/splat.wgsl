@@ -39,7 +39,7 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
             let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
             let t = intersect_sphere(r, s, radius);
             if t > 0.0 {
-                atomicMax(&splat_keys[u32(y * w + xw)], shaded_key(idx, r, t, s, radius));
+                atomicMax(&splat_keys[u32(y * w + xw)], hit_key(idx, r, t, s, radius));
             }
         }
     }
@@ -79,7 +79,7 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
                 let t = intersect_sphere(pixel.ray, s, radius);
                 if t > 0.0 {
                     atomicMax(&splat_keys[u32(y * w + x)],
-                              shaded_key(idx, pixel.ray, t, s, radius));
+                              hit_key(idx, pixel.ray, t, s, radius));
                 }
             }
         }

@@ -52,6 +52,8 @@ const fn stat(offset: usize) -> u32 {
 shared_constants! {
     /// Invocations per expand workgroup (`@workgroup_size` of `expand`).
     EXPAND_WORKGROUP: u32 = 256;
+    /// Side of a deferred-shading workgroup, pixels (`@workgroup_size` of `shade_keys`).
+    SHADE_WORKGROUP_SIDE: u32 = 8;
     /// Largest tessellation level the dynamic proxy may choose.
     MAX_DYNAMIC_LEVEL: u32 = 16;
     /// Bit 31 of a vertex's point index: shade this proxy by ray casting whatever the imposter
@@ -60,6 +62,9 @@ shared_constants! {
     /// Angular slack added around analytic bounds, radians: covers f32 rounding of the bounds
     /// and of the fragment's ray (about 0.06 px at 3840 wide).
     ANGLE_MARGIN: f32 = 2e-4;
+    /// Largest point index within a chunk that a key can hold (see `shaders/splat_key.wgsl`):
+    /// the low 24 bits of its payload.
+    MAX_KEY_INDEX: u32 = (1 << 24) - 1;
     /// Slack added around the pixel rectangles of `shaders/image_bounds.wgsl`, pixels: covers
     /// the f32 rounding of their corners (the projections other than the full equirect).
     PIXEL_MARGIN: f32 = 0.01;
@@ -96,6 +101,13 @@ shared_constants! {
     IMPOSTER_RAYCAST: u32 = 0;
     /// `Params::imposter`: billboard (sprite) shading.
     IMPOSTER_SPRITE: u32 = 1;
+
+    /// `Params::shading`: the base colour only.
+    SHADING_UNLIT: u32 = 0;
+    /// `Params::shading`: ambient, diffuse and specular from two lights.
+    SHADING_PHONG: u32 = 1;
+    /// `Params::shading`: the normal as colour.
+    SHADING_NORMAL: u32 = 2;
 
     /// `PoleMerge::kind`: no merging.
     MERGE_OFF: u32 = 0;

@@ -9,7 +9,7 @@ use super::splat::{SHADE_HIT, SPLAT_KEY};
 use super::targets;
 
 /// `shaders/imposter.wgsl`.
-const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
+pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
 /// `shaders/imposter_key.wgsl`: the keyed fragment stage.
 const IMPOSTER_KEY: &str = include_str!("../../shaders/imposter_key.wgsl");
 

@@ -34,6 +34,7 @@ mod shaders;
 mod sizing;
 mod specialisation;
 mod splat;
+mod splat_shade;
 mod stats;
 mod targets;
 mod timing;

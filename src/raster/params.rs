@@ -13,7 +13,8 @@ use super::constants::{
     DEPTH_FAR, DEPTH_NEAR, IMPOSTER_RAYCAST, IMPOSTER_SPRITE, MERGE_CYCLES, MERGE_MARRINAN,
     MERGE_OFF, MODEL_ODS, MODEL_PARALLEL, OFFSET_EXACT, OFFSET_PAPER, PROJ_CUBEMAP,
     PROJ_CYLINDRICAL, PROJ_EQUIRECT, PROJ_EQUIRECT_FULL, PROJ_FISHEYE, PROJ_HAMMER, PROJ_MAP,
-    PROXY_BOUNDS, PROXY_DYNAMIC, PROXY_QUAD, PROXY_STATIC,
+    PROXY_BOUNDS, PROXY_DYNAMIC, PROXY_QUAD, PROXY_STATIC, SHADING_NORMAL, SHADING_PHONG,
+    SHADING_UNLIT,
 };
 
 /// One pole's merge profile (WGSL `PoleMerge`): `kind` is a `MERGE_*` constant, `a, b, c`
@@ -189,9 +190,9 @@ impl Params {
                 Imposter::Sprite => IMPOSTER_SPRITE,
             },
             shading: match settings.shading {
-                Shading::Unlit => 0,
-                Shading::Phong => 1,
-                Shading::Normal => 2,
+                Shading::Unlit => SHADING_UNLIT,
+                Shading::Phong => SHADING_PHONG,
+                Shading::Normal => SHADING_NORMAL,
             },
             static_level: static_level(settings.proxy),
             batch_count: count,

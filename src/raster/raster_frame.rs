@@ -250,6 +250,24 @@ impl<'r> RasterFrame<'r> {
                 self.batches += 1;
                 first += count;
             }
+            // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index
+            // this chunk's points).
+            if let (Some(shade), Some(keys)) = (&r.shade, images.keys(eye)) {
+                let bg = ctx.scoped("binding the deferred shading", || {
+                    shade.bind(
+                        device,
+                        &self.buffers.params,
+                        &chunk.points,
+                        &chunk.colors,
+                        keys,
+                    )
+                })?;
+                let mut encoder = device.create_command_encoder(&Default::default());
+                let img = self.settings.image;
+                shade.dispatch(&mut encoder, &bg, &self.trig, (img.width, img.height));
+                ctx.queue.submit([encoder.finish()]);
+                ctx.wait("shading the splatted spheres")?;
+            }
         }
         Ok(())
     }

@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, MutexGuard};
 
+use super::constants::SHADING_UNLIT;
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandPipeline;
@@ -15,6 +16,7 @@ use super::shaders;
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::specialisation::Specialisation;
 use super::splat::DEFAULT_SPLAT_LIMIT;
+use super::splat_shade::ShadePipeline;
 
 /// The pipelines a frame draws with, compiled for one [`Specialisation`] and path.
 pub(crate) struct Pipelines {
@@ -22,12 +24,15 @@ pub(crate) struct Pipelines {
     pub(crate) expand: ExpandPipeline,
     /// Keyed on the keyed path ([`super::splat`]), else shading into render targets.
     pub(crate) imposter: ImposterPipeline,
+    /// On the keyed path under a lit shading only.
+    pub(crate) shade: Option<ShadePipeline>,
 }
 
 /// The shader modules every specialisation is compiled from.
 struct Modules {
     expand: wgpu::ShaderModule,
     imposter: wgpu::ShaderModule,
+    shade: wgpu::ShaderModule,
 }
 
 /// A GPU imposter-sphere rasterizer bound to one device; reusable across renders.
@@ -61,14 +66,16 @@ impl Rasterizer {
         let sources = [
             super::expand::source(ctx.int64_atomics),
             super::imposter::source(ctx.int64_atomics),
+            super::splat_shade::source(),
         ];
         let hashed: Vec<&str> = sources.iter().map(String::as_str).collect();
         let cache = PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &hashed);
-        let [expand, imposter] = sources;
+        let [expand, imposter, shade] = sources;
         let (modules, trig_layout) = ctx.scoped("loading the rasterizer shaders", || {
             let modules = Modules {
                 expand: shaders::module(device, "expand.wgsl", expand),
                 imposter: shaders::module(device, "imposter.wgsl", imposter),
+                shade: shaders::module(device, "splat_shade.wgsl", shade),
             };
             (modules, pixel_trig::layout(device))
         })?;
@@ -114,6 +121,8 @@ impl Rasterizer {
                 spec,
                 expand: ExpandPipeline::new(device, &src(&m.expand), self.ctx.int64_atomics),
                 imposter: ImposterPipeline::new(device, &src(&m.imposter), keyed),
+                shade: (keyed && spec.shading != SHADING_UNLIT)
+                    .then(|| ShadePipeline::new(device, &src(&m.shade))),
             }
         })?;
         cache.save();

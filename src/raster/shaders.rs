@@ -151,6 +151,7 @@ mod tests {
         validate("expand + splat_off", &super::super::expand::source(false));
         validate("imposter", &super::super::imposter::source(false));
         validate("imposter + keyed", &super::super::imposter::source(true));
+        validate("deferred shading", &super::super::splat_shade::source());
         validate("probe", &super::super::probe::source());
     }
 }

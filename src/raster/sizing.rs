@@ -8,7 +8,7 @@ use crate::projection::image_bounds::max_rects;
 use crate::render::{Imposter, Proxy, RenderSettings};
 
 use super::chunk::GpuPoint;
-use super::constants::MAX_DYNAMIC_LEVEL;
+use super::constants::{MAX_DYNAMIC_LEVEL, MAX_KEY_INDEX};
 use super::error::RasterError;
 use super::expand::ExpandedVertex;
 
@@ -46,6 +46,12 @@ impl DeviceCaps {
         self.max_buffer_size.min(self.max_storage_binding)
     }
 }
+
+// A key (`shaders/splat_key.wgsl`) holds any point index of a chunk.
+const _: () = assert!(
+    MAX_CHUNK_BYTES / size_of::<GpuPoint>() as u64 <= MAX_KEY_INDEX as u64 + 1,
+    "a chunk's point indices must fit a key"
+);
 
 /// Points one GPU chunk holds: as many as one storage binding of points allows.
 pub fn points_per_chunk(caps: &DeviceCaps) -> u64 {

@@ -1,0 +1,109 @@
+//! The deferred shading of the keyed path (`shaders/splat_shade.wgsl`): under a lit shading
+//! the splat and the keyed draws keep each pixel's nearest hit as a point index
+//! (`shaders/splat_key.wgsl`), and this compute pass shades each such pixel once, after each
+//! chunk, into its key's colour.
+
+use super::constants::SHADE_WORKGROUP_SIDE;
+use super::imposter::IMPOSTER;
+use super::pixel_trig::PIXEL_TRIG;
+use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
+use super::splat::SHADE_HIT;
+
+/// `shaders/splat_shade.wgsl`.
+const SPLAT_SHADE: &str = include_str!("../../shaders/splat_shade.wgsl");
+
+/// Source of the deferred-shading module: the imposter module (for its pixel rays and
+/// shading) and the pass.
+pub fn source() -> String {
+    shaders::compose(&[
+        PARAMS,
+        PIXEL_TRIG,
+        CHUNK,
+        SHADING,
+        SPHERE,
+        SHADE_HIT,
+        IMPOSTER,
+        SPLAT_SHADE,
+    ])
+}
+
+/// The deferred-shading pipeline and its bind group layout.
+pub struct ShadePipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl ShadePipeline {
+    /// Compiles the pipeline from `src`.
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
+        use wgpu::BufferBindingType::{Storage, Uniform};
+        use wgpu::ShaderStages as S;
+        let read = Storage { read_only: true };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("deferred shading"),
+            entries: &[
+                shaders::buffer_layout(0, S::COMPUTE, Uniform),
+                shaders::buffer_layout(1, S::COMPUTE, read),
+                shaders::buffer_layout(2, S::COMPUTE, read),
+                shaders::buffer_layout(3, S::COMPUTE, Storage { read_only: false }),
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("deferred shading"),
+            bind_group_layouts: &[Some(&layout), Some(src.trig)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("deferred shading"),
+            layout: Some(&pipeline_layout),
+            module: src.module,
+            entry_point: Some("shade_keys"),
+            compilation_options: shaders::options(src.constants),
+            cache: src.cache,
+        });
+        ShadePipeline { layout, pipeline }
+    }
+
+    /// Binds the `Params` uniform, a chunk's points and colours, and an eye's keys.
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        params: &wgpu::Buffer,
+        points: &wgpu::Buffer,
+        colors: &wgpu::Buffer,
+        keys: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("deferred shading"),
+            layout: &self.layout,
+            entries: &[
+                shaders::bind(0, params),
+                shaders::bind(1, points),
+                shaders::bind(2, colors),
+                shaders::bind(3, keys),
+            ],
+        })
+    }
+
+    /// Records the pass over a `width x height` eye.
+    pub fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind_group: &wgpu::BindGroup,
+        trig: &wgpu::BindGroup,
+        (width, height): (u32, u32),
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("deferred shading"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(1, trig, &[]);
+        pass.dispatch_workgroups(
+            width.div_ceil(SHADE_WORKGROUP_SIDE),
+            height.div_ceil(SHADE_WORKGROUP_SIDE),
+            1,
+        );
+    }
+}
