@@ -2,6 +2,8 @@
 //! the keyed draws write and which holds the pixel's distance and colour, and the attachment
 //! the keyed draws rasterize into.
 
+use rayon::prelude::*;
+
 use crate::frame::Frame;
 
 use super::context::GpuContext;
@@ -55,15 +57,21 @@ impl KeyedTargets {
         ctx.queue.submit([encoder.finish()]);
         let (w, h) = (self.width, self.height);
         let frame = map_read_with(ctx, &readback, "reading back the image", |keys| {
-            let mut frame = Frame::new(w, h);
-            for (k, key) in keys.chunks_exact(8).enumerate() {
-                let key = u64::from_le_bytes(key.try_into().expect("8 bytes"));
-                if let Some((color, distance)) = decode_key(key) {
-                    frame.color[k] = color;
-                    frame.depth[k] = distance;
-                }
+            // Straight from the mapped keys into the frame, on every core: at 3840x1920 the
+            // decode of one eye is as long as a frame's drawing.
+            let (color, depth) = keys
+                .par_chunks_exact(8)
+                .map(|key| {
+                    let key = u64::from_le_bytes(key.try_into().expect("8 bytes"));
+                    decode_key(key).unwrap_or(([0; 4], f32::INFINITY))
+                })
+                .unzip();
+            Frame {
+                width: w,
+                height: h,
+                color,
+                depth,
             }
-            frame
         });
         if keep {
             self.readback = Some(readback);
