@@ -89,10 +89,11 @@ pub fn raytrace_estimate_for(
 }
 
 /// Resident bytes per pixel and eye of a streamed raster render. On a software adapter the
-/// GPU's textures and buffers are host memory, so they count: colour 4 + distance 4 + depth 4
-/// textures, splat keys 8 (one buffer for both eyes), the frame read back 8, and transient
-/// read-back staging and output encoding. Measured: 27 bytes (mono) and 23 more per second
-/// eye at 3840×1920 (Autzen, `/usr/bin/time -v`); 32 keeps a margin.
+/// GPU's textures and buffers are host memory, so they count: on the keyed path the keys 8
+/// (the image; without 64-bit atomics colour 4 + distance 4 + depth 4 textures instead), the
+/// frame read back 8, and transient read-back staging 8 and output encoding. Measured on the
+/// keyed path: 24.5 bytes (mono) and 8.7 more for the second eye at 3840×1920 (Autzen,
+/// `/usr/bin/time -v`, against the same render 256 wide); 32 keeps a margin.
 pub const RASTER_BYTES_PER_PIXEL: u64 = 32;
 
 /// Resident bytes per point of the stream's chunk size, while streaming: decoded chunks (raw
