@@ -294,3 +294,78 @@ fn pieces_drawn_into_one_chunked_frame_give_the_same_frames() {
     };
     assert!(left.color.iter().filter(|c| c[3] == 255).count() > 10_000);
 }
+
+/// `scene` with every point repeated after the last: the copies keep positions and radii and
+/// take `recolor` of the colour.
+fn with_copies(scene: &omnicloud::Scene, recolor: impl Fn([u8; 3]) -> [u8; 3]) -> omnicloud::Scene {
+    let mut doubled = scene.clone();
+    doubled.positions.extend_from_within(..);
+    if let omnicloud::Radii::PerPoint(r) = &mut doubled.radii {
+        r.extend_from_within(..);
+    }
+    let rgb = doubled
+        .attributes
+        .rgb
+        .as_mut()
+        .expect("the stress scene has colours");
+    let copies: Vec<[u8; 3]> = rgb.iter().map(|&c| recolor(c)).collect();
+    rgb.extend(copies);
+    doubled
+}
+
+#[test]
+fn coincident_spheres_show_the_lowest_index_lit_and_one_colour_whatever_the_order_unlit() {
+    let Some(raster) = rasterizer() else { return };
+    let base = stress_scene(300);
+    let invert = |[r, g, b]: [u8; 3]| [255 - r, 255 - g, 255 - b];
+    // The same spheres twice, the originals first or the inverted copies first.
+    let originals_first = with_copies(&base, invert);
+    let mut inverted = base.clone();
+    for c in inverted.attributes.rgb.as_mut().unwrap() {
+        *c = invert(*c);
+    }
+    let inverted_first = with_copies(&inverted, invert);
+    let pb = ProgressBar::hidden();
+    let render = |scene: &omnicloud::Scene, shading| {
+        let mut s = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));
+        s.shading = shading;
+        let (rendered, stats) = raster.render(scene, &s, &pb).unwrap();
+        match rendered {
+            Rendered::Stereo { left, right } => (vec![left, right], stats),
+            Rendered::Mono(_) => panic!("ODS renders two eyes"),
+        }
+    };
+    let same = |a: &[omnicloud::Frame], b: &[omnicloud::Frame]| {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| differing_pixels(a, b))
+            .sum::<usize>()
+    };
+    // Lit: every pixel shows the copy of the lower index, as the ray tracer's tie rule.
+    for shading in [Shading::Phong, Shading::Normal] {
+        let (doubled, stats) = render(&originals_first, shading);
+        assert!(
+            stats.splatted > 300 && stats.drawn > stats.splatted,
+            "{stats}"
+        );
+        assert_eq!(same(&doubled, &render(&base, shading).0), 0, "{shading:?}");
+        let (doubled, _) = render(&inverted_first, shading);
+        assert_eq!(
+            same(&doubled, &render(&inverted, shading).0),
+            0,
+            "{shading:?}"
+        );
+    }
+    // Unlit: one colour of the two, the same whatever order the copies come in.
+    let (a, _) = render(&originals_first, Shading::Unlit);
+    let (b, _) = render(&inverted_first, Shading::Unlit);
+    assert_eq!(same(&a, &b), 0);
+    let (plain, _) = render(&base, Shading::Unlit);
+    let (flipped, _) = render(&inverted, Shading::Unlit);
+    for ((a, p), f) in a.iter().zip(&plain).zip(&flipped) {
+        let changed = (0..a.color.len())
+            .filter(|&k| a.color[k] != p.color[k] && a.color[k] != f.color[k])
+            .count();
+        assert_eq!(changed, 0, "pixels that show neither copy");
+    }
+}

@@ -148,6 +148,18 @@ impl Images {
         }
     }
 
+    /// Begins the render pass that draws eye `eye`'s proxies.
+    pub fn begin_draw<'e>(
+        &self,
+        eye: usize,
+        encoder: &'e mut wgpu::CommandEncoder,
+    ) -> wgpu::RenderPass<'e> {
+        match self {
+            Images::Drawn(eyes) => eyes[eye].begin_pass(encoder, false, None),
+            Images::Keyed { attachment, .. } => attachment.begin_pass(encoder),
+        }
+    }
+
     /// Records the clear of every eye's image.
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         match self {

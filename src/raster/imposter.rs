@@ -34,20 +34,11 @@ impl ImposterPipeline {
     /// Compiles the pipeline from `src`: shading into [`targets::EyeTargets`], or `keyed`,
     /// keeping nearest-hit keys (the module must have the keyed stage).
     pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
-        use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
-        let read = Storage { read_only: true };
-        let mut entries = vec![
-            shaders::buffer_layout(0, S::VERTEX_FRAGMENT, Uniform),
-            shaders::buffer_layout(1, S::FRAGMENT, read),
-            shaders::buffer_layout(2, S::FRAGMENT, read),
-        ];
+        let mut entries = shaders::chunk_layout(S::VERTEX_FRAGMENT, S::FRAGMENT);
         if keyed {
-            entries.push(shaders::buffer_layout(
-                3,
-                S::FRAGMENT,
-                Storage { read_only: false },
-            ));
+            let keys = wgpu::BufferBindingType::Storage { read_only: false };
+            entries.push(shaders::buffer_layout(3, S::FRAGMENT, keys));
         }
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("imposter"),
@@ -101,11 +92,7 @@ impl ImposterPipeline {
         colors: &wgpu::Buffer,
         keys: Option<&wgpu::Buffer>,
     ) -> wgpu::BindGroup {
-        let mut entries = vec![
-            shaders::bind(0, params),
-            shaders::bind(1, points),
-            shaders::bind(2, colors),
-        ];
+        let mut entries = shaders::chunk_entries(params, points, colors);
         entries.extend(keys.map(|k| shaders::bind(3, k)));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("imposter"),

@@ -9,7 +9,7 @@ use crate::frame::Frame;
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::splat::key_buffer;
-use super::targets::{KEYED_TARGETS, map_read_with};
+use super::targets::{KEYED_TARGETS, check_size, eye_texture, map_read_with};
 
 /// The keys of one eye, row by row: `!distance bits << 32 | RGBA8`, 0 where nothing shows.
 pub struct KeyedTargets {
@@ -98,30 +98,11 @@ pub struct KeyedAttachment {
 impl KeyedAttachment {
     /// Allocates the attachment of a `width x height` eye.
     pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
-        let max = ctx.limits.max_texture_dimension_2d;
-        if width > max || height > max {
-            return Err(RasterError::Limit {
-                what: format!("a {width}x{height} image"),
-                needed: width.max(height) as u64,
-                limit: max as u64,
-            });
-        }
+        check_size(ctx, width, height)?;
         let format = KEYED_TARGETS[0].as_ref().expect("one target").format;
         ctx.scoped("allocating the draw attachment", || {
-            let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("keyed draw attachment"),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                view_formats: &[],
-            });
+            let usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+            let texture = eye_texture(ctx, "keyed draw attachment", (width, height), format, usage);
             let view = texture.create_view(&Default::default());
             KeyedAttachment {
                 _texture: texture,

@@ -14,7 +14,7 @@ use crate::render::{Proxy, RenderSettings, cubemap_stereo};
 use super::chunk::GpuChunk;
 use super::error::RasterError;
 use super::expand::{ExpandBuffers, empty_draw_args};
-use super::frame_buffers::{FrameBuffers, FrameShape, Images, MAX_EYES, Spare};
+use super::frame_buffers::{FrameBuffers, FrameShape, MAX_EYES, Spare};
 use super::params::Params;
 use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
@@ -231,10 +231,7 @@ impl<'r> RasterFrame<'r> {
                 r.expand
                     .dispatch(&mut encoder, expand_bg, &self.trig, count, writes);
                 {
-                    let mut pass = match images {
-                        Images::Drawn(eyes) => eyes[eye].begin_pass(&mut encoder, false, None),
-                        Images::Keyed { attachment, .. } => attachment.begin_pass(&mut encoder),
-                    };
+                    let mut pass = images.begin_draw(eye, &mut encoder);
                     r.imposter.draw(
                         &mut pass,
                         draw_bg,

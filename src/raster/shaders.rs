@@ -90,6 +90,30 @@ pub fn buffer_layout(
     }
 }
 
+/// Layout entries 0 to 2 of a pipeline that reads a chunk: the `Params` uniform (seen by
+/// `params_stages`), the points and the colours (seen by `stages`).
+pub fn chunk_layout(
+    params_stages: wgpu::ShaderStages,
+    stages: wgpu::ShaderStages,
+) -> Vec<wgpu::BindGroupLayoutEntry> {
+    use wgpu::BufferBindingType::{Storage, Uniform};
+    let read = Storage { read_only: true };
+    vec![
+        buffer_layout(0, params_stages, Uniform),
+        buffer_layout(1, stages, read),
+        buffer_layout(2, stages, read),
+    ]
+}
+
+/// Entries 0 to 2 binding a chunk as [`chunk_layout`] lays them out.
+pub fn chunk_entries<'a>(
+    params: &'a wgpu::Buffer,
+    points: &'a wgpu::Buffer,
+    colors: &'a wgpu::Buffer,
+) -> Vec<wgpu::BindGroupEntry<'a>> {
+    vec![bind(0, params), bind(1, points), bind(2, colors)]
+}
+
 /// `buffer`, whole, at `binding`.
 pub fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {

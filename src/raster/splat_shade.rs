@@ -36,17 +36,13 @@ pub struct ShadePipeline {
 impl ShadePipeline {
     /// Compiles the pipeline from `src`.
     pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
-        use wgpu::BufferBindingType::{Storage, Uniform};
         use wgpu::ShaderStages as S;
-        let read = Storage { read_only: true };
+        let mut entries = shaders::chunk_layout(S::COMPUTE, S::COMPUTE);
+        let keys = wgpu::BufferBindingType::Storage { read_only: false };
+        entries.push(shaders::buffer_layout(3, S::COMPUTE, keys));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("deferred shading"),
-            entries: &[
-                shaders::buffer_layout(0, S::COMPUTE, Uniform),
-                shaders::buffer_layout(1, S::COMPUTE, read),
-                shaders::buffer_layout(2, S::COMPUTE, read),
-                shaders::buffer_layout(3, S::COMPUTE, Storage { read_only: false }),
-            ],
+            entries: &entries,
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("deferred shading"),
@@ -73,15 +69,12 @@ impl ShadePipeline {
         colors: &wgpu::Buffer,
         keys: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
+        let mut entries = shaders::chunk_entries(params, points, colors);
+        entries.push(shaders::bind(3, keys));
         device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("deferred shading"),
             layout: &self.layout,
-            entries: &[
-                shaders::bind(0, params),
-                shaders::bind(1, points),
-                shaders::bind(2, colors),
-                shaders::bind(3, keys),
-            ],
+            entries: &entries,
         })
     }
 

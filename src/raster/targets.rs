@@ -64,6 +64,43 @@ pub struct EyeTargets {
     readback: Option<(wgpu::Buffer, wgpu::Buffer)>,
 }
 
+/// Refuses a `width x height` image the adapter's textures cannot hold.
+pub fn check_size(ctx: &GpuContext, width: u32, height: u32) -> Result<(), RasterError> {
+    let max = ctx.limits.max_texture_dimension_2d;
+    if width > max || height > max {
+        return Err(RasterError::Limit {
+            what: format!("a {width}x{height} image"),
+            needed: width.max(height) as u64,
+            limit: max as u64,
+        });
+    }
+    Ok(())
+}
+
+/// A 2D texture of one eye's `(width, height)`.
+pub fn eye_texture(
+    ctx: &GpuContext,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
 fn padded_row(width: u32) -> u32 {
     (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT
 }
@@ -71,31 +108,10 @@ fn padded_row(width: u32) -> u32 {
 impl EyeTargets {
     /// Allocates the textures for a `width x height` eye.
     pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
-        let max = ctx.limits.max_texture_dimension_2d;
-        if width > max || height > max {
-            return Err(RasterError::Limit {
-                what: format!("a {width}x{height} image"),
-                needed: width.max(height) as u64,
-                limit: max as u64,
-            });
-        }
+        check_size(ctx, width, height)?;
         ctx.scoped("allocating render targets", || {
-            let make = |label, format, usage| {
-                ctx.device.create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
-            };
+            let make =
+                |label, format, usage| eye_texture(ctx, label, (width, height), format, usage);
             let rt = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
             let color = make("color", COLOR_FORMAT, rt);
             let distance = make("distance", DISTANCE_FORMAT, rt);
