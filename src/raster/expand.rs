@@ -93,23 +93,8 @@ impl ExpandPipeline {
         if splat {
             entries.extend([entry(5, rw), entry(6, Storage { read_only: true })]);
         }
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("expand"),
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("expand"),
-            bind_group_layouts: &[Some(&layout), Some(src.trig)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("expand"),
-            layout: Some(&pipeline_layout),
-            module: src.module,
-            entry_point: Some("expand"),
-            compilation_options: shaders::options(src.constants),
-            cache: src.cache,
-        });
+        let (layout, pipeline) =
+            shaders::compute_pipeline(device, "expand", src, "expand", &entries);
         ExpandPipeline {
             layout,
             pipeline,

@@ -92,13 +92,8 @@ impl ImposterPipeline {
         colors: &wgpu::Buffer,
         keys: Option<&wgpu::Buffer>,
     ) -> wgpu::BindGroup {
-        let mut entries = shaders::chunk_entries(params, points, colors);
-        entries.extend(keys.map(|k| shaders::bind(3, k)));
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("imposter"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        let chunk = [params, points, colors];
+        shaders::bind_chunk(device, "imposter", &self.layout, chunk, keys)
     }
 
     /// Records the draw of the `vertices` the expand pass counted into `draw_args`.

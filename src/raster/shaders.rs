@@ -105,13 +105,51 @@ pub fn chunk_layout(
     ]
 }
 
-/// Entries 0 to 2 binding a chunk as [`chunk_layout`] lays them out.
-pub fn chunk_entries<'a>(
-    params: &'a wgpu::Buffer,
-    points: &'a wgpu::Buffer,
-    colors: &'a wgpu::Buffer,
-) -> Vec<wgpu::BindGroupEntry<'a>> {
-    vec![bind(0, params), bind(1, points), bind(2, colors)]
+/// A bind group for [`chunk_layout`] plus `keys` at binding 3 when given: the `Params`
+/// uniform, the chunk's points and colours.
+pub fn bind_chunk(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    [params, points, colors]: [&wgpu::Buffer; 3],
+    keys: Option<&wgpu::Buffer>,
+) -> wgpu::BindGroup {
+    let mut entries = vec![bind(0, params), bind(1, points), bind(2, colors)];
+    entries.extend(keys.map(|k| bind(3, k)));
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// A compute pipeline `label` running `entry_point` of `src`, with bind group 0 laid out by
+/// `entries` and the pixel trigonometry as group 1.
+pub fn compute_pipeline(
+    device: &wgpu::Device,
+    label: &str,
+    src: &PipelineSource<'_>,
+    entry_point: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    });
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(&layout), Some(src.trig)],
+        immediate_size: 0,
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(label),
+        layout: Some(&pipeline_layout),
+        module: src.module,
+        entry_point: Some(entry_point),
+        compilation_options: options(src.constants),
+        cache: src.cache,
+    });
+    (layout, pipeline)
 }
 
 /// `buffer`, whole, at `binding`.

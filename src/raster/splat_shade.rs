@@ -40,23 +40,8 @@ impl ShadePipeline {
         let mut entries = shaders::chunk_layout(S::COMPUTE, S::COMPUTE);
         let keys = wgpu::BufferBindingType::Storage { read_only: false };
         entries.push(shaders::buffer_layout(3, S::COMPUTE, keys));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("deferred shading"),
-            entries: &entries,
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("deferred shading"),
-            bind_group_layouts: &[Some(&layout), Some(src.trig)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("deferred shading"),
-            layout: Some(&pipeline_layout),
-            module: src.module,
-            entry_point: Some("shade_keys"),
-            compilation_options: shaders::options(src.constants),
-            cache: src.cache,
-        });
+        let (layout, pipeline) =
+            shaders::compute_pipeline(device, "deferred shading", src, "shade_keys", &entries);
         ShadePipeline { layout, pipeline }
     }
 
@@ -69,13 +54,8 @@ impl ShadePipeline {
         colors: &wgpu::Buffer,
         keys: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
-        let mut entries = shaders::chunk_entries(params, points, colors);
-        entries.push(shaders::bind(3, keys));
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("deferred shading"),
-            layout: &self.layout,
-            entries: &entries,
-        })
+        let chunk = [params, points, colors];
+        shaders::bind_chunk(device, "deferred shading", &self.layout, chunk, Some(keys))
     }
 
     /// Records the pass over a `width x height` eye.
