@@ -1,5 +1,6 @@
-// The shading of a ray's hit on a sphere, shared by the imposter fragment stage and the keyed
-// path (splat_key.wgsl). Each module that includes it declares `params` and `colors`.
+// The shading of a ray's hit on a sphere, shared by the imposter fragment stage and the
+// deferred shading of the keyed path (splat_shade.wgsl). Each module that includes it declares
+// `params` and `colors`.
 
 // A shaded pixel; `hit` false where it shows no sphere.
 struct Shaded {

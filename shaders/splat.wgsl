@@ -1,9 +1,8 @@
 // Compute splat: a small sphere is ray cast here, pixel by pixel over its bounds, instead of
-// being rasterized; each hit keeps the nearest shaded hit of its pixel as a key
-// (splat_key.wgsl). The rays, the intersection and the shading are the keyed fragment stage's
-// (imposter_key.wgsl), so the result is the same per pixel. Needs SHADER_INT64 and
-// SHADER_INT64_ATOMIC_MIN_MAX. Appended to the expand pipeline by src/raster/splat.rs, after
-// shading, shade_hit and splat_key.
+// being rasterized; each hit keeps the nearest hit of its pixel as a key (splat_key.wgsl).
+// The rays, the intersection and the key are the keyed fragment stage's (imposter_key.wgsl),
+// so the result is the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
+// Appended to the expand pipeline by src/raster/splat.rs, after splat_key.
 
 // The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
@@ -33,13 +32,14 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     let w = i32(size.x);
     let x0 = i32(fx0);
     let x1 = i32(fx1);
+    let payload = sphere_payload(idx);
     for (var y = i32(fy0); y <= i32(fy1); y++) {
         for (var x = x0; x <= x1; x++) {
             let xw = ((x % w) + w) % w;
             let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
             let t = intersect_sphere(r, s, radius);
             if t > 0.0 {
-                atomicMax(&splat_keys[u32(y * w + xw)], hit_key(idx, r, t, s, radius));
+                atomicMax(&splat_keys[u32(y * w + xw)], hit_key(t, payload));
             }
         }
     }
@@ -64,6 +64,7 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
         }
     }
     let w = i32(size.x);
+    let payload = sphere_payload(idx);
     for (var k = 0u; k < rs.n; k++) {
         // Pixel centres (x + 0.5, y + 0.5) inside the rectangle, as the rasterizer samples them.
         let x0 = i32(ceil(rs.lo[k].x - 0.5));
@@ -78,8 +79,7 @@ fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx
                 }
                 let t = intersect_sphere(pixel.ray, s, radius);
                 if t > 0.0 {
-                    atomicMax(&splat_keys[u32(y * w + x)],
-                              hit_key(idx, pixel.ray, t, s, radius));
+                    atomicMax(&splat_keys[u32(y * w + x)], hit_key(t, payload));
                 }
             }
         }

@@ -2,28 +2,26 @@
 // fragment stage (imposter_key.wgsl) and the deferred shading (splat_shade.wgsl), kept with a
 // 64-bit atomicMax: !distance bits << 32 | payload. A cleared (zero) key means "no hit", and
 // the largest key is the nearest hit whatever the order of the writes. The payload is
-// - shaded: the hit's RGBA8 colour, alpha 255 (its top byte); unlit hits are shaded at once,
-//   and src/raster/key_targets.rs decodes these;
+// - shaded: the RGBA8 colour, alpha 255 (its top byte); unlit hits are shaded at once (their
+//   colour is the point's), and src/raster/key_targets.rs decodes these;
 // - deferred: MAX_KEY_INDEX - the point's index within its chunk (top byte 0), for lit
 //   shadings, which splat_shade.wgsl turns into shaded keys once a chunk is drawn, so a pixel
 //   is shaded once however many spheres were cast at it.
-// At equal distances a shaded key (an earlier chunk's) beats a deferred one, and a lower index
-// beats a higher one: the lowest index wins, as in the ray tracer; two unlit hits at the same
-// distance keep the larger colour. Prepended: shade_hit.
+// Either way it is the sphere's, not the hit's: the splat fetches it once per sphere. At equal
+// distances a shaded key (an earlier chunk's) beats a deferred one, and a lower index beats a
+// higher one: the lowest index wins, as in the ray tracer; two unlit hits at the same distance
+// keep the larger colour. Each module that includes it declares `params` and `colors`.
 
-fn shaded_key(t: f32, color: vec4<f32>) -> u64 {
-    return (u64(~bitcast<u32>(t)) << 32u) | u64(pack4x8unorm(color));
-}
-
-fn deferred_key(t: f32, idx: u32) -> u64 {
-    return (u64(~bitcast<u32>(t)) << 32u) | u64(MAX_KEY_INDEX - idx);
-}
-
-// The key of ray `r` hitting point `index` (centre `center` relative to C, `radius`) at `t`.
-fn hit_key(index: u32, r: Ray, t: f32, center: vec3<f32>, radius: f32) -> u64 {
+// The payload of point `index`'s hits.
+fn sphere_payload(index: u32) -> u32 {
     if shading_of(params) != SHADING_UNLIT {
-        return deferred_key(t, index);
+        return MAX_KEY_INDEX - index;
     }
-    let hit = r.origin + t * r.dir;
-    return shaded_key(t, shade_hit(index, r, t, hit, (hit - center) / radius).color);
+    // As shade_hit shades an unlit hit.
+    return pack4x8unorm(vec4<f32>(unpack_color(colors[index]) / 255.0, 1.0));
+}
+
+// The key of a hit at distance `t` with `payload`.
+fn hit_key(t: f32, payload: u32) -> u64 {
+    return (u64(~bitcast<u32>(t)) << 32u) | u64(payload);
 }

@@ -5,11 +5,13 @@
 use super::expand::ExpandedVertex;
 use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
-use super::splat::{SHADE_HIT, SPLAT_KEY};
+use super::splat::SPLAT_KEY;
 use super::targets;
 
 /// `shaders/imposter.wgsl`.
 pub const IMPOSTER: &str = include_str!("../../shaders/imposter.wgsl");
+/// `shaders/shade_hit.wgsl`: the shading of a hit, shared with the deferred shading.
+pub const SHADE_HIT: &str = include_str!("../../shaders/shade_hit.wgsl");
 /// `shaders/imposter_key.wgsl`: the keyed fragment stage.
 const IMPOSTER_KEY: &str = include_str!("../../shaders/imposter_key.wgsl");
 

@@ -1,14 +1,10 @@
-//! The keyed path, taken where the device has 64-bit atomics: small spheres are ray cast and
-//! shaded by the expand pass (`shaders/splat.wgsl`), and the fragments of drawn ones by the
-//! keyed fragment stage (`shaders/imposter_key.wgsl`), into one key per pixel holding the
-//! nearest hit's distance and colour (`shaders/splat_key.wgsl`), which is the image
-//! ([`super::key_targets`]). Without 64-bit atomics the expand pass splats nothing
+//! The keyed path, taken where the device has 64-bit atomics: small spheres are ray cast by
+//! the expand pass (`shaders/splat.wgsl`), and the fragments of drawn ones by the keyed
+//! fragment stage (`shaders/imposter_key.wgsl`), into one key per pixel holding the nearest
+//! hit's distance and its colour (unlit) or point (lit, shaded by [`super::splat_shade`];
+//! `shaders/splat_key.wgsl`), which is the image ([`super::key_targets`]). Without 64-bit atomics the expand pass splats nothing
 //! (`splat_off.wgsl`) and every sphere is drawn into render targets.
 
-use super::shaders::SHADING;
-
-/// `shaders/shade_hit.wgsl`: the shading of a hit, shared with the imposter module.
-pub const SHADE_HIT: &str = include_str!("../../shaders/shade_hit.wgsl");
 /// `shaders/splat_key.wgsl`: the per-pixel key.
 pub const SPLAT_KEY: &str = include_str!("../../shaders/splat_key.wgsl");
 /// `shaders/splat.wgsl`: the splat (64-bit atomics).
@@ -20,11 +16,11 @@ const SPLAT_OFF: &str = include_str!("../../shaders/splat_off.wgsl");
 /// larger ones are drawn.
 pub const DEFAULT_SPLAT_LIMIT: u32 = 16;
 
-/// The expand module's splat part: the shading, the key and the splat when the device has
-/// 64-bit atomics, else a stand-in that splats nothing.
+/// The expand module's splat part: the key and the splat when the device has 64-bit atomics,
+/// else a stand-in that splats nothing.
 pub fn expand_part(int64_atomics: bool) -> String {
     if int64_atomics {
-        [SHADING, SHADE_HIT, SPLAT_KEY, SPLAT].join("\n")
+        [SPLAT_KEY, SPLAT].join("\n")
     } else {
         SPLAT_OFF.to_string()
     }

@@ -4,10 +4,9 @@
 //! chunk, into its key's colour.
 
 use super::constants::SHADE_WORKGROUP_SIDE;
-use super::imposter::IMPOSTER;
+use super::imposter::{IMPOSTER, SHADE_HIT};
 use super::pixel_trig::PIXEL_TRIG;
 use super::shaders::{self, CHUNK, PARAMS, SHADING, SPHERE};
-use super::splat::SHADE_HIT;
 
 /// `shaders/splat_shade.wgsl`.
 const SPLAT_SHADE: &str = include_str!("../../shaders/splat_shade.wgsl");
