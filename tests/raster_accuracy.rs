@@ -193,7 +193,7 @@ fn frames_drawn_into_reused_buffers_are_the_same() {
     let Some(raster) = rasterizer() else {
         return;
     };
-    // From its second frame on a rasterizer keeps its targets, splat keys and work buffers
+    // From its second frame on a rasterizer keeps its images (keys or targets) and buffers
     // for the next frame of the same shape: nothing of one frame may reach the next.
     let scene = stress_scene(1500);
     let ahead = settings(ods(PoleMerging::both(PoleMerge::COMFORTABLE)));

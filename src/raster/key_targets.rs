@@ -8,10 +8,12 @@ use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
+use super::sizing::key_bytes;
 use super::splat::key_buffer;
 use super::targets::{KEYED_TARGETS, check_size, eye_texture, map_read_with};
 
-/// The keys of one eye, row by row: `!distance bits << 32 | RGBA8`, 0 where nothing shows.
+/// The keys of one eye, row by row: `!distance bits << 32 | RGBA8` once shaded, 0 where
+/// nothing shows (`shaders/splat_key.wgsl`).
 pub struct KeyedTargets {
     width: u32,
     height: u32,
@@ -24,11 +26,10 @@ pub struct KeyedTargets {
 impl KeyedTargets {
     /// Allocates the keys of a `width x height` eye.
     pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
-        let bytes = width as u64 * height as u64 * size_of::<u64>() as u64;
         ctx.scoped("allocating splat keys", || KeyedTargets {
             width,
             height,
-            keys: key_buffer(&ctx.device, bytes),
+            keys: key_buffer(&ctx.device, key_bytes(width, height)),
             readback: None,
         })
     }

@@ -24,8 +24,8 @@ use super::stats::{EyeStats, RasterStats};
 use super::targets::map_read;
 use super::timing::{FrameClock, FrameTiming};
 
-/// A frame being drawn: per-eye targets, splat keys and the expand/draw work buffers, sized
-/// for chunks of up to `max_chunk_points` points.
+/// A frame being drawn: per-eye images (keys or render targets) and the expand/draw work
+/// buffers, sized for chunks of up to `max_chunk_points` points.
 pub struct RasterFrame<'r> {
     rasterizer: &'r Rasterizer,
     /// Compiled for the modes of `settings`.

@@ -1,7 +1,6 @@
 //! How a frame's work is cut to the device: points per chunk, whether the frame takes the
 //! keyed path (small spheres splatted), the vertex buffer size and the points per expand
-//! batch. Pure
-//! functions of the device limits and the request.
+//! batch. Pure functions of the device limits and the request.
 
 use crate::projection::Projection;
 use crate::projection::image_bounds::max_rects;
@@ -80,10 +79,9 @@ pub struct Knobs {
     pub batch_limit: Option<u32>,
 }
 
-/// Bytes of the splat keys of one eye under `settings`: one `u64` per pixel.
-fn key_bytes(settings: &RenderSettings) -> u64 {
-    let img = settings.image;
-    img.width as u64 * img.height as u64 * size_of::<u64>() as u64
+/// Bytes of the keys of one `width x height` eye: one `u64` per pixel.
+pub fn key_bytes(width: u32, height: u32) -> u64 {
+    width as u64 * height as u64 * size_of::<u64>() as u64
 }
 
 /// Whether a frame under `settings` takes the keyed path ([`super::splat`]): ray-cast
@@ -94,7 +92,7 @@ pub fn splats(caps: &DeviceCaps, knobs: &Knobs, settings: &RenderSettings) -> bo
         && knobs.splat_limit > 0
         && settings.proxy == Proxy::Bounds
         && settings.imposter == Imposter::Raycast
-        && key_bytes(settings) <= caps.max_storage_buffer()
+        && key_bytes(settings.image.width, settings.image.height) <= caps.max_storage_buffer()
 }
 
 /// How one frame is cut into GPU work.
