@@ -28,10 +28,11 @@ fn vs(@location(0) xy: vec2<f32>, @location(1) uv: u32, @location(2) point: u32)
     return VertexOut(vec4<f32>(clip, 0.5, 1.0), unpack2x16snorm(uv), point);
 }
 
-// Pixel `pos` (centre, pixels) seen for point `index`: its ray in the point's view and the
-// sphere (centre relative to C); `ok` false where the pixel has no ray.
+// Pixel `pos` (centre, pixels) seen for point `index`: the point's view, the pixel's ray in
+// it and the sphere (centre relative to C); `ok` false where the pixel has no ray.
 struct PixelCast {
     ok: bool,
+    view: View,
     ray: Ray,
     center: vec3<f32>,
     radius: f32,
@@ -40,8 +41,9 @@ struct PixelCast {
 fn pixel_cast(pos: vec2<f32>, index: u32) -> PixelCast {
     let pt = points[index];
     let center = pt.position - params.camera_offset;
-    let pixel = pixel_ray(sphere_view(params, center), vec2<u32>(pos));
-    return PixelCast(pixel.ok, pixel.ray, center, pt.radius);
+    let view = sphere_view(params, center);
+    let pixel = pixel_ray(view, vec2<u32>(pos));
+    return PixelCast(pixel.ok, view, pixel.ray, center, pt.radius);
 }
 
 // Shades pixel `pos` (centre, pixels) as point `point` (| FORCE_RAYCAST: ray cast it); `uv` is
@@ -72,7 +74,7 @@ fn shade_pixel(pos: vec2<f32>, point: u32, uv: vec2<f32>) -> Shaded {
             return miss;
         }
         let dir = normalize(center);
-        let u = normalize(cross(dir, sphere_view(params, center).basis.up));
+        let u = normalize(cross(dir, seen.view.basis.up));
         let v = cross(u, dir);
         normal = uv.x * u + uv.y * v - sqrt(1.0 - rr) * dir;
         hit = center + radius * normal;
