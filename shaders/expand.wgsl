@@ -2,7 +2,8 @@
 // image (pixel units, longitude unwrapped; proxies crossing the seam are written twice).
 // Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
 // pole_merge, ods, depth_map, projection, params, chunk, sphere_bounds, image_bounds; appended:
-// sphere and splat (or splat_off).
+// sphere, and on devices with 64-bit atomics splat_key and splat, whose entry points splat
+// small spheres and pass the others to `expand_point`.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -138,8 +139,7 @@ fn emit_pixel_rects(rects: PixelRects, idx: u32) {
 }
 
 // Every projection but the full equirect: bounds proxies and ray-cast fragments only (the
-// sizing refuses the rest). The sphere's pixel rectangles are splatted when small, else
-// drawn.
+// sizing refuses the rest), drawn as the sphere's pixel rectangles.
 fn expand_projected(view: View, s: vec3<f32>, radius: f32, idx: u32) {
     let proj = projection_of(params);
     var flags = 0u;
@@ -154,14 +154,6 @@ fn expand_projected(view: View, s: vec3<f32>, radius: f32, idx: u32) {
         }
     }
     let rects = image_bounds(view, proj, params.image_size, s, radius);
-    if rects.n == 0u {
-        return;
-    }
-    if flags == 0u && try_splat_rects(view, rects, s, radius, idx) {
-        count(STAT_DRAWN, 1u);
-        count(STAT_SPLATTED, 1u);
-        return;
-    }
     emit_pixel_rects(rects, idx | flags);
 }
 
@@ -253,7 +245,13 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= params.batch_count {
         return;
     }
-    let idx = params.batch_first + gid.x;
+    expand_point(params.batch_first + gid.x);
+}
+
+// Writes the proxy of point `idx` of the chunk. llvmpipe runs every branch here for each
+// group of lanes, masked, taken or not, so the splat (splat.wgsl) passes on only the few
+// spheres it does not ray cast itself, in a second dispatch.
+fn expand_point(idx: u32) {
     let pt = points[idx];
     let s = pt.position - params.camera_offset;
     let radius = pt.radius;
@@ -284,11 +282,6 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     if proxy == PROXY_BOUNDS {
-        if raycast && try_splat(view, bounds.rect, s, radius, idx) {
-            count(STAT_DRAWN, 1u);
-            count(STAT_SPLATTED, 1u);
-            return;
-        }
         emit_rect(bounds.rect, idx);
         return;
     }

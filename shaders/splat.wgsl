@@ -2,18 +2,105 @@
 // being rasterized; each hit keeps the nearest hit of its pixel as a key (splat_key.wgsl).
 // The rays, the intersection and the key are the keyed fragment stage's (imposter_key.wgsl),
 // so the result is the same per pixel. Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
-// Appended to the expand pipeline by src/raster/splat.rs, after splat_key.
+// Appended to the expand module by src/raster/splat.rs, after splat_key.
+//
+// Two entry points per batch: `expand_splat` ray casts every sphere it can and lists the
+// rest (too large, special, or with no projected centre); `expand_listed`, dispatched
+// indirectly over that list, gives them to expand.wgsl's `expand_point` to be drawn. The
+// drawing code stays out of the splat's dispatch: llvmpipe would run it, masked, for every
+// group of lanes there.
 
 // The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
 @group(0) @binding(6) var<storage, read> colors: array<u32>;
+
+// The spheres left to draw, their count and point indices (up to a batch's points; the count
+// is cleared before each batch), and the indirect dispatch arguments of `expand_listed`
+// (cleared to (0, 1, 1)), bound to `expand_splat` only.
+struct ListedPoints {
+    count: atomic<u32>,
+    points: array<u32>,
+}
+struct ListedGroups {
+    x: atomic<u32>,
+    y: u32,
+    z: u32,
+}
+@group(0) @binding(7) var<storage, read_write> listed: ListedPoints;
+@group(0) @binding(8) var<storage, read_write> listed_groups: ListedGroups;
+
+// What `splat_point` did with a sphere.
+const SPLAT_NOTHING: u32 = 0u;
+const SPLAT_DONE: u32 = 1u;
+const SPLAT_LISTED: u32 = 2u;
+
+@compute @workgroup_size(EXPAND_WORKGROUP)
+fn expand_splat(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= params.batch_count {
+        return;
+    }
+    let idx = params.batch_first + gid.x;
+    let pt = points[idx];
+    let s = pt.position - params.camera_offset;
+    let done = splat_point(sphere_view(params, s), s, pt.radius, idx);
+    if done == SPLAT_DONE {
+        count(STAT_SPLATTED, 1u);
+    } else if done == SPLAT_LISTED {
+        list_point(idx);
+    }
+}
+
+@compute @workgroup_size(EXPAND_WORKGROUP)
+fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= atomicLoad(&listed.count) {
+        return;
+    }
+    expand_point(listed.points[gid.x]);
+}
+
+// Appends point `idx` to the list, counting a workgroup of `expand_listed` per
+// EXPAND_WORKGROUP points.
+fn list_point(idx: u32) {
+    let slot = atomicAdd(&listed.count, 1u);
+    if slot % EXPAND_WORKGROUP == 0u {
+        atomicAdd(&listed_groups.x, 1u);
+    }
+    listed.points[slot] = idx;
+}
+
+// Ray casts sphere (s, radius) of point `idx` when `expand_point` would draw its bounds (the
+// keyed path draws bounds proxies with ray-cast imposters only) and they are small enough;
+// SPLAT_LISTED when it is to be drawn, SPLAT_NOTHING when it has no pixel in the image.
+fn splat_point(view: View, s: vec3<f32>, radius: f32, idx: u32) -> u32 {
+    let proj = projection_of(params);
+    if proj.kind == PROJ_EQUIRECT_FULL {
+        if !has_projection(view, s) {
+            return SPLAT_LISTED;
+        }
+        let bounds = sphere_bounds(view, s, radius);
+        if bounds.special || !try_splat(view, bounds.rect, s, radius, idx) {
+            return SPLAT_LISTED;
+        }
+        return SPLAT_DONE;
+    }
+    if proj.kind != PROJ_MAP
+        && (!has_projection(view, s) || sphere_bounds(view, s, radius).special) {
+        return SPLAT_LISTED;
+    }
+    let rects = image_bounds(view, proj, params.image_size, s, radius);
+    if rects.n == 0u {
+        return SPLAT_NOTHING;
+    }
+    if !try_splat_rects(view, rects, s, radius, idx) {
+        return SPLAT_LISTED;
+    }
+    return SPLAT_DONE;
+}
+
 // Ray casts `r` (analytic bounds, without margin) pixel by pixel when it spans at most
 // `params.splat_limit` pixels per side; false when it is too large (draw it instead).
 fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     let limit = params.splat_limit;
-    if limit <= 0.0 {
-        return false;
-    }
     let size = params.image_size;
     var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
     var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
@@ -51,9 +138,6 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
 // one is too large (draw them instead).
 fn try_splat_rects(view: View, rects: PixelRects, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     let limit = params.splat_limit;
-    if limit <= 0.0 {
-        return false;
-    }
     let size = params.image_size;
     // A local copy: arrays are indexed dynamically through memory.
     var rs = rects;

@@ -107,9 +107,10 @@ pub const RASTER_BYTES_PER_CHUNK_POINT: u64 = 384;
 /// its compiled pipelines), code and thread stacks.
 pub const RASTER_BASE_BYTES: u64 = 192 << 20;
 
-/// Bytes of the rasterizer's vertex buffer for chunks of `chunk_points` (bounds proxies).
+/// Bytes of the rasterizer's work buffers for chunks of `chunk_points` (bounds proxies): the
+/// vertex buffer, and the list of points the splat leaves to draw.
 fn vertex_buffer_bytes(chunk_points: u64) -> u64 {
-    (chunk_points * 12 * 16).min(128 << 20)
+    (chunk_points * 12 * 16).min(128 << 20) + chunk_points * 4
 }
 
 /// Estimated peak of `render --renderer raster` streaming in chunks of `chunk_points` at

@@ -1,6 +1,7 @@
 //! The expand compute pipeline (`shaders/expand.wgsl`): turns each point of a batch into
-//! proxy triangles of one eye, or splats it (`shaders/splat.wgsl`), counting into the
-//! statistics.
+//! proxy triangles of one eye, counting into the statistics. On the keyed path it is two
+//! dispatches (`shaders/splat.wgsl`): one splats the small spheres and lists the rest, the
+//! second, indirect, expands the listed ones.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -36,8 +37,8 @@ pub fn empty_draw_args() -> wgpu::util::DrawIndirectArgs {
     }
 }
 
-/// Source of the expand module; `splat` appends the compute splat (the device must have
-/// 64-bit atomics), else its stand-in.
+/// Source of the expand module; `splat` appends the compute splat's entry points (the device
+/// must have 64-bit atomics).
 pub fn source(splat: bool) -> String {
     shaders::compose(&[
         PARAMS,
@@ -63,23 +64,43 @@ pub struct ExpandBuffers<'a> {
     pub draw_args: &'a wgpu::Buffer,
     /// Per-eye `EyeStats`.
     pub stats: &'a wgpu::Buffer,
-    /// The eye's keys (bound only when the pipeline splats).
-    pub splat_keys: &'a wgpu::Buffer,
-    /// The chunk's colours (bound only when the pipeline splats, which shades).
-    pub colors: &'a wgpu::Buffer,
+    /// On the keyed path: the eye's keys, the chunk's colours (the splat shades) and the
+    /// list of points the splat leaves to draw.
+    pub keyed: Option<KeyedBuffers<'a>>,
 }
 
-/// The expand pipeline and its bind group layout.
+/// What the splat binds besides the expand pass's buffers.
+pub struct KeyedBuffers<'a> {
+    /// The eye's keys.
+    pub keys: &'a wgpu::Buffer,
+    /// The chunk's colours.
+    pub colors: &'a wgpu::Buffer,
+    /// WGSL `ListedPoints`: the count and indices of the points left to draw.
+    pub listed: &'a wgpu::Buffer,
+    /// The second dispatch's arguments (WGSL `ListedGroups`), apart from the list: a dispatch
+    /// may not both write a buffer and read it as its arguments.
+    pub listed_groups: &'a wgpu::Buffer,
+}
+
+/// The expand pipeline and its bind group layout; on the keyed path, the splat's two.
 pub struct ExpandPipeline {
     layout: wgpu::BindGroupLayout,
+    /// `expand`, or on the keyed path `expand_splat`.
     pipeline: wgpu::ComputePipeline,
-    splat: bool,
+    /// On the keyed path, `expand_listed` and its layout.
+    listed: Option<(wgpu::BindGroupLayout, wgpu::ComputePipeline)>,
+}
+
+/// An expand pipeline's bind groups for one eye and chunk.
+pub struct ExpandBindings {
+    main: wgpu::BindGroup,
+    /// On the keyed path, the listed points' dispatch.
+    listed: Option<wgpu::BindGroup>,
 }
 
 impl ExpandPipeline {
-    /// Compiles the pipeline from `src` (a [`source`] module); `splat` when the module
-    /// includes the compute splat (needs 64-bit atomics).
-    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, splat: bool) -> Self {
+    /// Compiles the pipelines from `src` (a [`source`] module, with the splat when `keyed`).
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
         use wgpu::BufferBindingType::{Storage, Uniform};
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
@@ -90,20 +111,35 @@ impl ExpandPipeline {
             entry(3, rw),
             entry(4, rw),
         ];
-        if splat {
-            entries.extend([entry(5, rw), entry(6, Storage { read_only: true })]);
+        if !keyed {
+            let (layout, pipeline) =
+                shaders::compute_pipeline(device, "expand", src, "expand", &entries);
+            return ExpandPipeline {
+                layout,
+                pipeline,
+                listed: None,
+            };
         }
+        entries.extend([
+            entry(5, rw),
+            entry(6, Storage { read_only: true }),
+            entry(7, rw),
+        ]);
+        let listed =
+            shaders::compute_pipeline(device, "expand listed", src, "expand_listed", &entries);
+        entries.push(entry(8, rw));
         let (layout, pipeline) =
-            shaders::compute_pipeline(device, "expand", src, "expand", &entries);
+            shaders::compute_pipeline(device, "expand splat", src, "expand_splat", &entries);
         ExpandPipeline {
             layout,
             pipeline,
-            splat,
+            listed: Some(listed),
         }
     }
 
-    /// Binds `buffers` for [`ExpandPipeline::dispatch`].
-    pub fn bind(&self, device: &wgpu::Device, buffers: &ExpandBuffers<'_>) -> wgpu::BindGroup {
+    /// Binds `buffers` for [`ExpandPipeline::dispatch`]; on the keyed path they must include
+    /// the splat's.
+    pub fn bind(&self, device: &wgpu::Device, buffers: &ExpandBuffers<'_>) -> ExpandBindings {
         let b = buffers;
         let mut entries = vec![
             shaders::bind(0, b.params),
@@ -112,24 +148,42 @@ impl ExpandPipeline {
             shaders::bind(3, b.draw_args),
             shaders::bind(4, b.stats),
         ];
-        if self.splat {
-            entries.extend([shaders::bind(5, b.splat_keys), shaders::bind(6, b.colors)]);
+        let group = |label, layout, entries: &[wgpu::BindGroupEntry<'_>]| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout,
+                entries,
+            })
+        };
+        let Some((listed_layout, _)) = &self.listed else {
+            return ExpandBindings {
+                main: group("expand", &self.layout, &entries),
+                listed: None,
+            };
+        };
+        let k = b.keyed.as_ref().expect("the keyed path binds keys");
+        entries.extend([
+            shaders::bind(5, k.keys),
+            shaders::bind(6, k.colors),
+            shaders::bind(7, k.listed),
+        ]);
+        let listed = group("expand listed", listed_layout, &entries);
+        entries.push(shaders::bind(8, k.listed_groups));
+        ExpandBindings {
+            main: group("expand splat", &self.layout, &entries),
+            listed: Some(listed),
         }
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("expand"),
-            layout: &self.layout,
-            entries: &entries,
-        })
     }
 
     /// Records the expansion of `count` points (the batch of the bound `Params`); `trig`
-    /// binds the pixel trigonometry.
+    /// binds the pixel trigonometry. On the keyed path `listed_groups` (bound, cleared to
+    /// [`splat::NO_GROUPS`] with the list's count to 0) sizes the second dispatch.
     pub fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        bind_group: &wgpu::BindGroup,
+        bindings: &ExpandBindings,
         trig: &wgpu::BindGroup,
-        count: u32,
+        (count, listed_groups): (u32, Option<&wgpu::Buffer>),
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -137,9 +191,16 @@ impl ExpandPipeline {
             timestamp_writes,
         });
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(0, &bindings.main, &[]);
         pass.set_bind_group(1, trig, &[]);
         pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
+        if let (Some((_, pipeline)), Some(group), Some(args)) =
+            (&self.listed, &bindings.listed, listed_groups)
+        {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups_indirect(args, 0);
+        }
     }
 }
 

@@ -29,6 +29,8 @@ pub struct FrameShape {
     pub eyes: usize,
     /// Vertices per batch.
     pub vertex_capacity: u32,
+    /// Points per batch.
+    pub batch_points: u32,
     /// Whether the images are keyed (see [`super::splat`]) rather than drawn.
     pub keyed: bool,
 }
@@ -40,6 +42,7 @@ impl FrameShape {
             size,
             eyes,
             vertex_capacity: sizing.vertex_capacity,
+            batch_points: sizing.batch_points,
             keyed: sizing.splat(),
         }
     }
@@ -51,8 +54,9 @@ pub struct FrameBuffers {
     pub shape: FrameShape,
     /// Each eye's image (and read-back buffers once read).
     pub images: Images,
-    /// The keys an expand pass binds when the images are drawn (a placeholder).
-    pub unkeyed: wgpu::Buffer,
+    /// On the keyed path, the points the splat leaves to draw and the dispatch that draws
+    /// them (see [`super::expand::KeyedBuffers`]).
+    pub listed: Option<(wgpu::Buffer, wgpu::Buffer)>,
     /// `Params` uniform.
     pub params: wgpu::Buffer,
     /// Expanded proxy vertices.
@@ -68,9 +72,6 @@ impl FrameBuffers {
     pub fn new(ctx: &GpuContext, shape: FrameShape) -> Result<Self, RasterError> {
         let device = &ctx.device;
         let images = Images::new(ctx, shape)?;
-        // The expand pipeline of a device with 64-bit atomics binds keys even when a frame
-        // draws into render targets.
-        let unkeyed = ctx.scoped("allocating splat buffers", || splat::key_buffer(device, 8))?;
         ctx.scoped("allocating work buffers", || {
             let make = |label, size: usize, usage| {
                 device.create_buffer(&wgpu::BufferDescriptor {
@@ -81,10 +82,24 @@ impl FrameBuffers {
                 })
             };
             use wgpu::BufferUsages as U;
+            let listed = shape.keyed.then(|| {
+                (
+                    make(
+                        "listed points",
+                        splat::listed_bytes(shape.batch_points) as usize,
+                        U::STORAGE | U::COPY_DST,
+                    ),
+                    make(
+                        "listed points' dispatch",
+                        size_of::<wgpu::util::DispatchIndirectArgs>(),
+                        U::STORAGE | U::INDIRECT | U::COPY_DST,
+                    ),
+                )
+            });
             FrameBuffers {
                 shape,
                 images,
-                unkeyed,
+                listed,
                 params: make("params", size_of::<Params>(), U::UNIFORM | U::COPY_DST),
                 vertices: make(
                     "vertices",

@@ -13,13 +13,14 @@ use crate::render::{Proxy, RenderSettings, cubemap_stereo};
 
 use super::chunk::GpuChunk;
 use super::error::RasterError;
-use super::expand::{ExpandBuffers, empty_draw_args};
+use super::expand::{ExpandBuffers, KeyedBuffers, empty_draw_args};
 use super::frame_buffers::{FrameBuffers, FrameShape, MAX_EYES, Spare};
 use super::params::Params;
 use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
 use super::sizing::{FrameSizing, splats};
 use super::specialisation::Specialisation;
+use super::splat;
 use super::stats::{EyeStats, RasterStats};
 use super::targets::map_read;
 use super::timing::{FrameClock, FrameTiming};
@@ -189,8 +190,14 @@ impl<'r> RasterFrame<'r> {
                             vertices: &self.buffers.vertices,
                             draw_args: &self.buffers.draw_args,
                             stats: &self.buffers.stats,
-                            splat_keys: keys.unwrap_or(&self.buffers.unkeyed),
-                            colors: &chunk.colors,
+                            keyed: keys.zip(self.buffers.listed.as_ref()).map(
+                                |(keys, (listed, listed_groups))| KeyedBuffers {
+                                    keys,
+                                    colors: &chunk.colors,
+                                    listed,
+                                    listed_groups,
+                                },
+                            ),
                         },
                     );
                     let draw = r.imposter.bind(
@@ -226,10 +233,21 @@ impl<'r> RasterFrame<'r> {
                     .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
                 ctx.queue
                     .write_buffer(&self.buffers.draw_args, 0, empty_draw_args().as_bytes());
+                if let Some((listed, groups)) = &self.buffers.listed {
+                    ctx.queue.write_buffer(listed, 0, &0u32.to_ne_bytes());
+                    ctx.queue
+                        .write_buffer(groups, 0, splat::NO_GROUPS.as_bytes());
+                }
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let writes = self.clock.first_pass_writes(self.batches == 0);
-                r.expand
-                    .dispatch(&mut encoder, expand_bg, &self.trig, count, writes);
+                let listed_groups = self.buffers.listed.as_ref().map(|(_, groups)| groups);
+                r.expand.dispatch(
+                    &mut encoder,
+                    expand_bg,
+                    &self.trig,
+                    (count, listed_groups),
+                    writes,
+                );
                 {
                     let mut pass = images.begin_draw(eye, &mut encoder);
                     r.imposter.draw(

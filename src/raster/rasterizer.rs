@@ -119,7 +119,7 @@ impl Rasterizer {
             };
             Pipelines {
                 spec,
-                expand: ExpandPipeline::new(device, &src(&m.expand), self.ctx.int64_atomics),
+                expand: ExpandPipeline::new(device, &src(&m.expand), keyed),
                 imposter: ImposterPipeline::new(device, &src(&m.imposter), keyed),
                 shade: (keyed && spec.shading != SHADING_UNLIT)
                     .then(|| ShadePipeline::new(device, &src(&m.shade))),

@@ -210,7 +210,7 @@ mod tests {
     #[test]
     fn every_composed_shader_parses_and_validates() {
         validate("expand + splat", &super::super::expand::source(true));
-        validate("expand + splat_off", &super::super::expand::source(false));
+        validate("expand", &super::super::expand::source(false));
         validate("imposter", &super::super::imposter::source(false));
         validate("imposter + keyed", &super::super::imposter::source(true));
         validate("deferred shading", &super::super::splat_shade::source());

@@ -9,7 +9,7 @@ use bytemuck::{Pod, Zeroable};
 pub struct EyeStats {
     /// Points whose centre has no projection.
     pub culled: u32,
-    /// Points that produced a proxy (or were splatted).
+    /// Points that produced a proxy (splatted ones are counted in `splatted` alone).
     pub drawn: u32,
     /// Proxies drawn as analytic bounds with forced ray casting.
     pub special: u32,
@@ -55,7 +55,7 @@ impl RasterStats {
         }
         Ok(RasterStats {
             culled: total(|e| e.culled),
-            drawn: total(|e| e.drawn),
+            drawn: total(|e| e.drawn) + total(|e| e.splatted),
             special: total(|e| e.special),
             seam_copies: total(|e| e.seam),
             splatted: total(|e| e.splatted),
@@ -111,7 +111,7 @@ mod tests {
             s,
             RasterStats {
                 culled: 11,
-                drawn: 22,
+                drawn: 22 + 77,
                 special: 33,
                 seam_copies: 44,
                 splatted: 77,
