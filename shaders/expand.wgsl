@@ -3,7 +3,7 @@
 // Driven by src/raster/expand.rs. Prepended: the constants prelude, camera, equirect,
 // pole_merge, ods, depth_map, projection, params, chunk, sphere_bounds, image_bounds; appended:
 // sphere, and on devices with 64-bit atomics splat_key and splat, whose entry points splat
-// small spheres and pass the others to `expand_point`.
+// small spheres and pass the others to `expand_raycast_bounds`.
 
 @group(0) @binding(0) var<uniform> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
@@ -138,8 +138,29 @@ fn emit_pixel_rects(rects: PixelRects, idx: u32) {
     count(STAT_DRAWN, 1u);
 }
 
-// Every projection but the full equirect: bounds proxies and ray-cast fragments only (the
-// sizing refuses the rest), drawn as the sphere's pixel rectangles.
+// Bounds proxies with ray-cast fragments (in every projection but the full equirect, the only
+// kind the sizing allows): the sphere's analytic bounds, forced to ray cast where it is
+// special or its centre has no projection.
+fn expand_raycast_bounds(p: PointSphere, idx: u32) {
+    if projection_of(params).kind != PROJ_EQUIRECT_FULL {
+        expand_projected(p.view, p.centre, p.radius, idx);
+        return;
+    }
+    // Only whether the centre projects, not where: skip the ODS solve.
+    var flags = 0u;
+    if !has_projection(p.view, p.centre) {
+        count(STAT_CULLED, 1u);
+        flags = FORCE_RAYCAST;
+    }
+    let bounds = sphere_bounds(p.view, p.centre, p.radius);
+    if bounds.special || flags != 0u {
+        count(STAT_SPECIAL, 1u);
+        flags = FORCE_RAYCAST;
+    }
+    emit_rect(bounds.rect, idx | flags);
+}
+
+// Every projection but the full equirect: the sphere's pixel rectangles.
 fn expand_projected(view: View, s: vec3<f32>, radius: f32, idx: u32) {
     let proj = projection_of(params);
     var flags = 0u;
@@ -248,27 +269,34 @@ fn expand(@builtin(global_invocation_id) gid: vec3<u32>) {
     expand_point(params.batch_first + gid.x);
 }
 
-// Writes the proxy of point `idx` of the chunk. llvmpipe runs every branch here for each
-// group of lanes, masked, taken or not, so the splat (splat.wgsl) passes on only the few
-// spheres it does not ray cast itself, in a second dispatch.
-fn expand_point(idx: u32) {
+// Point `idx` of the chunk as a sphere: its centre relative to C, radius and view.
+struct PointSphere {
+    centre: vec3<f32>,
+    radius: f32,
+    view: View,
+}
+
+fn point_sphere(idx: u32) -> PointSphere {
     let pt = points[idx];
     let s = pt.position - params.camera_offset;
-    let radius = pt.radius;
-    let view = sphere_view(params, s);
-    if projection_of(params).kind != PROJ_EQUIRECT_FULL {
-        expand_projected(view, s, radius, idx);
-        return;
-    }
+    return PointSphere(s, pt.radius, sphere_view(params, s));
+}
+
+// Writes the proxy of point `idx` of the chunk. llvmpipe runs every branch here for each
+// group of lanes, masked, taken or not, so the splat (splat.wgsl) passes on only the few
+// spheres it does not ray cast itself, in a second dispatch, to `expand_raycast_bounds`.
+fn expand_point(idx: u32) {
+    let p = point_sphere(idx);
+    let s = p.centre;
+    let radius = p.radius;
+    let view = p.view;
     let raycast = imposter_of(params) == IMPOSTER_RAYCAST;
     let proxy = proxy_of(params);
-    // Ray-cast bounds need only whether the centre projects, not where: skip the ODS solve.
-    var centre = Projected(vec2<f32>(0.0), false);
-    if raycast && proxy == PROXY_BOUNDS {
-        centre.ok = has_projection(view, s);
-    } else {
-        centre = project(view, s);
+    if projection_of(params).kind != PROJ_EQUIRECT_FULL || (raycast && proxy == PROXY_BOUNDS) {
+        expand_raycast_bounds(p, idx);
+        return;
     }
+    let centre = project(view, s);
     if !centre.ok {
         count(STAT_CULLED, 1u);
         if !raycast {

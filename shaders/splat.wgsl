@@ -6,7 +6,7 @@
 //
 // Two entry points per batch: `expand_splat` ray casts every sphere it can and lists the
 // rest (too large, special, or with no projected centre); `expand_listed`, dispatched
-// indirectly over that list, gives them to expand.wgsl's `expand_point` to be drawn. The
+// indirectly over that list, gives them to expand.wgsl's `expand_raycast_bounds` to be drawn. The
 // drawing code stays out of the splat's dispatch: llvmpipe would run it, masked, for every
 // group of lanes there.
 
@@ -40,9 +40,8 @@ fn expand_splat(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let idx = params.batch_first + gid.x;
-    let pt = points[idx];
-    let s = pt.position - params.camera_offset;
-    let done = splat_point(sphere_view(params, s), s, pt.radius, idx);
+    let p = point_sphere(idx);
+    let done = splat_point(p.view, p.centre, p.radius, idx);
     if done == SPLAT_DONE {
         count(STAT_SPLATTED, 1u);
     } else if done == SPLAT_LISTED {
@@ -55,7 +54,8 @@ fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= atomicLoad(&listed.count) {
         return;
     }
-    expand_point(listed.points[gid.x]);
+    let idx = listed.points[gid.x];
+    expand_raycast_bounds(point_sphere(idx), idx);
 }
 
 // Appends point `idx` to the list, counting a workgroup of `expand_listed` per
@@ -68,8 +68,8 @@ fn list_point(idx: u32) {
     listed.points[slot] = idx;
 }
 
-// Ray casts sphere (s, radius) of point `idx` when `expand_point` would draw its bounds (the
-// keyed path draws bounds proxies with ray-cast imposters only) and they are small enough;
+// Ray casts sphere (s, radius) of point `idx` when `expand_raycast_bounds` would draw its
+// bounds (the keyed path's only proxy) and they are small enough;
 // SPLAT_LISTED when it is to be drawn, SPLAT_NOTHING when it has no pixel in the image.
 fn splat_point(view: View, s: vec3<f32>, radius: f32, idx: u32) -> u32 {
     let proj = projection_of(params);
