@@ -6,9 +6,10 @@
 //
 // Two entry points per batch: `expand_splat` ray casts every sphere it can and lists the
 // rest (too large, special, or with no projected centre); `expand_listed`, dispatched
-// indirectly over that list, gives them to expand.wgsl's `expand_raycast_bounds` to be drawn. The
-// drawing code stays out of the splat's dispatch: llvmpipe would run it, masked, for every
-// group of lanes there.
+// indirectly over that list, gives them to expand.wgsl's `expand_raycast_bounds` to be
+// drawn. The drawing code stays out of the splat's dispatch: llvmpipe would run it, masked,
+// for every group of lanes there. Both skip spheres hidden whole by nearer ones
+// (occlusion.wgsl).
 
 // The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
@@ -33,6 +34,7 @@ struct ListedGroups {
 const SPLAT_NOTHING: u32 = 0u;
 const SPLAT_DONE: u32 = 1u;
 const SPLAT_LISTED: u32 = 2u;
+const SPLAT_HIDDEN: u32 = 3u;
 
 @compute @workgroup_size(EXPAND_WORKGROUP)
 fn expand_splat(@builtin(global_invocation_id) gid: vec3<u32>) {
@@ -40,10 +42,11 @@ fn expand_splat(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let idx = params.batch_first + gid.x;
-    let p = point_sphere(idx);
-    let done = splat_point(p.view, p.centre, p.radius, idx);
+    let done = splat_point(point_sphere(idx), idx);
     if done == SPLAT_DONE {
         count(STAT_SPLATTED, 1u);
+    } else if done == SPLAT_HIDDEN {
+        count(STAT_OCCLUDED, 1u);
     } else if done == SPLAT_LISTED {
         list_point(idx);
     }
@@ -55,7 +58,21 @@ fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let idx = listed.points[gid.x];
-    expand_raycast_bounds(point_sphere(idx), idx);
+    let p = point_sphere(idx);
+    // Ordinary spheres of the full equirect are tested against the tiles and then cover them.
+    var px = vec4<i32>(0, 0, -1, -1);
+    if projection_of(params).kind == PROJ_EQUIRECT_FULL && has_projection(p.view, p.centre) {
+        let bounds = sphere_bounds(p.view, p.centre, p.radius);
+        if !bounds.special {
+            px = bounds_pixels(bounds.rect);
+        }
+    }
+    if hidden_by_tiles(px, nearest_possible(p)) {
+        count(STAT_OCCLUDED, 1u);
+        return;
+    }
+    expand_raycast_bounds(p, idx);
+    cover_tiles(p, px);
 }
 
 // Appends point `idx` to the list, counting a workgroup of `expand_listed` per
@@ -68,19 +85,31 @@ fn list_point(idx: u32) {
     listed.points[slot] = idx;
 }
 
-// Ray casts sphere (s, radius) of point `idx` when `expand_raycast_bounds` would draw its
-// bounds (the keyed path's only proxy) and they are small enough;
-// SPLAT_LISTED when it is to be drawn, SPLAT_NOTHING when it has no pixel in the image.
-fn splat_point(view: View, s: vec3<f32>, radius: f32, idx: u32) -> u32 {
+// Ray casts point `idx`'s sphere `p` when `expand_raycast_bounds` would draw its bounds (the
+// keyed path's only proxy) and they are small enough; SPLAT_LISTED when it is to be drawn,
+// SPLAT_NOTHING when it has no pixel in the image, SPLAT_HIDDEN when nearer spheres hide it.
+fn splat_point(p: PointSphere, idx: u32) -> u32 {
+    let view = p.view;
+    let s = p.centre;
+    let radius = p.radius;
     let proj = projection_of(params);
     if proj.kind == PROJ_EQUIRECT_FULL {
         if !has_projection(view, s) {
             return SPLAT_LISTED;
         }
         let bounds = sphere_bounds(view, s, radius);
-        if bounds.special || !try_splat(view, bounds.rect, s, radius, idx) {
+        if bounds.special {
             return SPLAT_LISTED;
         }
+        let px = bounds_pixels(bounds.rect);
+        let limit = i32(params.splat_limit);
+        if px.z - px.x >= limit || px.w - px.y >= limit {
+            return SPLAT_LISTED;
+        }
+        if hidden_by_tiles(px, nearest_possible(p)) {
+            return SPLAT_HIDDEN;
+        }
+        splat_pixels(view, px, s, radius, idx);
         return SPLAT_DONE;
     }
     if proj.kind != PROJ_MAP
@@ -97,10 +126,9 @@ fn splat_point(view: View, s: vec3<f32>, radius: f32, idx: u32) -> u32 {
     return SPLAT_DONE;
 }
 
-// Ray casts `r` (analytic bounds, without margin) pixel by pixel when it spans at most
-// `params.splat_limit` pixels per side; false when it is too large (draw it instead).
-fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
-    let limit = params.splat_limit;
+// Pixel centres (x0, y0)..(x1, y1) (columns unwrapped, rows clipped to the image) inside
+// analytic bounds `r` (without margin), as the rasterizer samples them.
+fn bounds_pixels(r: Rect) -> vec4<i32> {
     let size = params.image_size;
     var lo = r.lo - vec2<f32>(ANGLE_MARGIN);
     var hi = r.hi + vec2<f32>(ANGLE_MARGIN);
@@ -108,29 +136,44 @@ fn try_splat(view: View, r: Rect, s: vec3<f32>, radius: f32, idx: u32) -> bool {
     hi.y = min(hi.y, FRAC_PI_2);
     let tl = position_of_angles_unwrapped(size, vec2<f32>(lo.x, hi.y));
     let br = position_of_angles_unwrapped(size, vec2<f32>(hi.x, lo.y));
-    // Pixel centres (x + 0.5, y + 0.5) inside [tl, br], as the rasterizer samples them.
-    let fx0 = ceil(tl.x - 0.5);
-    let fx1 = floor(br.x - 0.5);
-    let fy0 = max(ceil(tl.y - 0.5), 0.0);
-    let fy1 = min(floor(br.y - 0.5), size.y - 1.0);
-    if fx1 - fx0 >= limit || fy1 - fy0 >= limit {
-        return false;
-    }
-    let w = i32(size.x);
-    let x0 = i32(fx0);
-    let x1 = i32(fx1);
+    return vec4<i32>(vec4<f32>(ceil(tl.x - 0.5), max(ceil(tl.y - 0.5), 0.0), floor(br.x - 0.5),
+                               min(floor(br.y - 0.5), size.y - 1.0)));
+}
+
+// Ray casts sphere (s, radius) at pixels `px` (bounds_pixels).
+fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) {
+    let w = i32(params.image_size.x);
+    let x0 = px.x;
+    let x1 = px.z;
     let payload = sphere_payload(idx);
-    for (var y = i32(fy0); y <= i32(fy1); y++) {
-        for (var x = x0; x <= x1; x++) {
-            let xw = ((x % w) + w) % w;
-            let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
-            let t = intersect_sphere(r, s, radius);
-            if t > 0.0 {
-                atomicMax(&splat_keys[u32(y * w + xw)], hit_key(t, payload));
-            }
+    // One loop over the rectangle's pixels rather than rows and columns: the lanes of a
+    // group run until the largest of their spheres is done, and this way that is its pixel
+    // count, not its widest row times its tallest column. The column wraps at the seam by
+    // comparison: an integer remainder per pixel is a scalar division per lane on llvmpipe.
+    let cols = x1 - x0 + 1;
+    let first_column = ((x0 % w) + w) % w;
+    var column = first_column;
+    var col = 0;
+    var y = px.y;
+    let rows = px.w - y + 1;
+    let pixels = select(0, cols * rows, cols > 0 && rows > 0);
+    for (var k = 0; k < pixels; k++) {
+        let r = table_pixel_ray(view, vec2<u32>(u32(column), u32(y)));
+        let t = intersect_sphere(r, s, radius);
+        if t > 0.0 {
+            atomicMax(&splat_keys[u32(y * w + column)], hit_key(t, payload));
+        }
+        column += 1;
+        if column == w {
+            column = 0;
+        }
+        col += 1;
+        if col == cols {
+            col = 0;
+            column = first_column;
+            y += 1;
         }
     }
-    return true;
 }
 
 // Ray casts the pixels of `rects` (image_bounds, clipped to the image) with their own

@@ -54,6 +54,8 @@ shared_constants! {
     EXPAND_WORKGROUP: u32 = 256;
     /// Side of a deferred-shading workgroup, pixels (`@workgroup_size` of `shade_keys`).
     SHADE_WORKGROUP_SIDE: u32 = 8;
+    /// Side of an occlusion tile, pixels (`shaders/occlusion.wgsl`).
+    TILE_SIDE: u32 = 8;
     /// Largest tessellation level the dynamic proxy may choose.
     MAX_DYNAMIC_LEVEL: u32 = 16;
     /// Bit 31 of a vertex's point index: shade this proxy by ray casting whatever the imposter
@@ -149,6 +151,8 @@ shared_constants! {
     STAT_VERTICES: u32 = stat(offset_of!(EyeStats, vertices));
     /// Counter index of [`EyeStats::splatted`].
     STAT_SPLATTED: u32 = stat(offset_of!(EyeStats, splatted));
+    /// Counter index of [`EyeStats::occluded`].
+    STAT_OCCLUDED: u32 = stat(offset_of!(EyeStats, occluded));
 }
 
 /// Near and far distances (metres) of the logarithmic depth `log(t/near)/log(far/near)`:
@@ -176,7 +180,8 @@ mod tests {
             "{p}"
         );
         assert!(p.contains("const STAT_SPLATTED: u32 = 6u;\n"), "{p}");
-        assert!(p.contains("const STATS_PER_EYE: u32 = 7u;\n"), "{p}");
+        assert!(p.contains("const STAT_OCCLUDED: u32 = 7u;\n"), "{p}");
+        assert!(p.contains("const STATS_PER_EYE: u32 = 8u;\n"), "{p}");
         // The f32 literal reads back (through f64, as WGSL's abstract float) as the same f32.
         let text = p
             .lines()

@@ -73,6 +73,8 @@ pub struct ExpandBuffers<'a> {
 pub struct KeyedBuffers<'a> {
     /// The eye's keys.
     pub keys: &'a wgpu::Buffer,
+    /// The eye's occlusion tiles.
+    pub tiles: &'a wgpu::Buffer,
     /// The chunk's colours.
     pub colors: &'a wgpu::Buffer,
     /// WGSL `ListedPoints`: the count and indices of the points left to draw.
@@ -124,6 +126,7 @@ impl ExpandPipeline {
             entry(5, rw),
             entry(6, Storage { read_only: true }),
             entry(7, rw),
+            entry(9, rw),
         ]);
         let listed =
             shaders::compute_pipeline(device, "expand listed", src, "expand_listed", &entries);
@@ -166,6 +169,7 @@ impl ExpandPipeline {
             shaders::bind(5, k.keys),
             shaders::bind(6, k.colors),
             shaders::bind(7, k.listed),
+            shaders::bind(9, k.tiles),
         ]);
         let listed = group("expand listed", listed_layout, &entries);
         entries.push(shaders::bind(8, k.listed_groups));

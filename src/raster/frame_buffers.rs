@@ -155,11 +155,11 @@ impl Images {
         })
     }
 
-    /// The keys of eye `eye` on the keyed path.
-    pub fn keys(&self, eye: usize) -> Option<&wgpu::Buffer> {
+    /// The keys (and occlusion tiles) of eye `eye` on the keyed path.
+    pub fn keys(&self, eye: usize) -> Option<&KeyedTargets> {
         match self {
             Images::Drawn(_) => None,
-            Images::Keyed { eyes, .. } => Some(&eyes[eye].keys),
+            Images::Keyed { eyes, .. } => Some(&eyes[eye]),
         }
     }
 

@@ -9,7 +9,7 @@ use crate::frame::Frame;
 use super::context::GpuContext;
 use super::error::RasterError;
 use super::sizing::key_bytes;
-use super::splat::key_buffer;
+use super::splat::{key_buffer, tile_bytes};
 use super::targets::{KEYED_TARGETS, check_size, eye_texture, map_read_with};
 
 /// The keys of one eye, row by row: `!distance bits << 32 | RGBA8` once shaded, 0 where
@@ -19,6 +19,8 @@ pub struct KeyedTargets {
     height: u32,
     /// The keys.
     pub keys: wgpu::Buffer,
+    /// The occlusion tiles (`shaders/occlusion.wgsl`).
+    pub tiles: wgpu::Buffer,
     /// Their read-back buffer, kept between reads of a reused frame.
     readback: Option<wgpu::Buffer>,
 }
@@ -30,6 +32,7 @@ impl KeyedTargets {
             width,
             height,
             keys: key_buffer(&ctx.device, key_bytes(width, height)),
+            tiles: key_buffer(&ctx.device, tile_bytes(width, height)),
             readback: None,
         })
     }
@@ -37,6 +40,7 @@ impl KeyedTargets {
     /// Records the clear of the image to nothing shown.
     pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.clear_buffer(&self.keys, 0, None);
+        encoder.clear_buffer(&self.tiles, 0, None);
     }
 
     /// Copies the keys back and decodes them into a [`Frame`]; `keep` keeps the read-back

@@ -191,8 +191,9 @@ impl<'r> RasterFrame<'r> {
                             draw_args: &self.buffers.draw_args,
                             stats: &self.buffers.stats,
                             keyed: keys.zip(self.buffers.listed.as_ref()).map(
-                                |(keys, (listed, listed_groups))| KeyedBuffers {
-                                    keys,
+                                |(eye, (listed, listed_groups))| KeyedBuffers {
+                                    keys: &eye.keys,
+                                    tiles: &eye.tiles,
                                     colors: &chunk.colors,
                                     listed,
                                     listed_groups,
@@ -205,7 +206,7 @@ impl<'r> RasterFrame<'r> {
                         &self.buffers.params,
                         &chunk.points,
                         &chunk.colors,
-                        keys,
+                        keys.map(|eye| &eye.keys),
                     );
                     (expand, draw)
                 })
@@ -267,7 +268,7 @@ impl<'r> RasterFrame<'r> {
             }
             // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index
             // this chunk's points).
-            if let (Some(shade), Some(keys)) = (&r.shade, images.keys(eye)) {
+            if let (Some(shade), Some(keys)) = (&r.shade, images.keys(eye).map(|e| &e.keys)) {
                 let bg = ctx.scoped("binding the deferred shading", || {
                     shade.bind(
                         device,

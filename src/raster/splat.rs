@@ -5,10 +5,14 @@
 //! [`super::splat_shade`]; `shaders/splat_key.wgsl`), which is the image
 //! ([`super::key_targets`]). Without 64-bit atomics every sphere is drawn into render targets.
 
+use super::constants::TILE_SIDE;
+
 /// `shaders/splat_key.wgsl`: the per-pixel key.
 pub const SPLAT_KEY: &str = include_str!("../../shaders/splat_key.wgsl");
 /// `shaders/splat.wgsl`: the splat (64-bit atomics).
 const SPLAT: &str = include_str!("../../shaders/splat.wgsl");
+/// `shaders/occlusion.wgsl`: the tiles that let hidden spheres be skipped whole.
+const OCCLUSION: &str = include_str!("../../shaders/occlusion.wgsl");
 
 /// Default largest sphere the compute splat ray casts, in pixels per side of its bounds;
 /// larger ones are drawn.
@@ -18,7 +22,7 @@ pub const DEFAULT_SPLAT_LIMIT: u32 = 16;
 /// 64-bit atomics, else nothing.
 pub fn expand_part(int64_atomics: bool) -> String {
     if int64_atomics {
-        [SPLAT_KEY, SPLAT].join("\n")
+        [SPLAT_KEY, SPLAT, OCCLUSION].join("\n")
     } else {
         String::new()
     }
@@ -34,6 +38,13 @@ pub fn listed_bytes(batch_points: u32) -> u64 {
 /// workgroups yet, of one row and layer.
 pub const NO_GROUPS: wgpu::util::DispatchIndirectArgs =
     wgpu::util::DispatchIndirectArgs { x: 0, y: 1, z: 1 };
+
+/// Bytes of the occlusion tiles of a `width x height` eye (`shaders/occlusion.wgsl`): a `u32`
+/// per tile of `TILE_SIDE` pixels a side.
+pub fn tile_bytes(width: u32, height: u32) -> u64 {
+    let tiles = |n: u32| n.div_ceil(TILE_SIDE) as u64;
+    tiles(width) * tiles(height) * size_of::<u32>() as u64
+}
 
 /// Allocates a key buffer of `bytes` (one `u64` per pixel of one eye).
 pub fn key_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {

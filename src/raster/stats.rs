@@ -21,6 +21,8 @@ pub struct EyeStats {
     pub vertices: u32,
     /// Spheres ray cast by the compute splat.
     pub splatted: u32,
+    /// Spheres skipped whole, hidden by nearer ones (`shaders/occlusion.wgsl`).
+    pub occluded: u32,
 }
 
 /// Counts from one render, summed over the eyes.
@@ -38,6 +40,9 @@ pub struct RasterStats {
     pub seam_copies: u64,
     /// Proxies ray cast by the compute splat instead of drawn (counted in `drawn` too).
     pub splatted: u64,
+    /// Spheres skipped whole because nearer ones hide every pixel they could cover (counted in
+    /// `drawn` too: the image is the same as if they were drawn).
+    pub occluded: u64,
     /// Vertices written.
     pub vertices: u64,
     /// Expand/draw batches submitted (per eye).
@@ -55,10 +60,11 @@ impl RasterStats {
         }
         Ok(RasterStats {
             culled: total(|e| e.culled),
-            drawn: total(|e| e.drawn) + total(|e| e.splatted),
+            drawn: total(|e| e.drawn) + total(|e| e.splatted) + total(|e| e.occluded),
             special: total(|e| e.special),
             seam_copies: total(|e| e.seam),
             splatted: total(|e| e.splatted),
+            occluded: total(|e| e.occluded),
             vertices: total(|e| e.vertices),
             batches,
         })
@@ -69,12 +75,13 @@ impl std::fmt::Display for RasterStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} proxies drawn ({} special, {} seam copies, {} splatted, {} vertices, {} batches), \
-             {} points inside the viewing circle",
+            "{} proxies drawn ({} special, {} seam copies, {} splatted, {} hidden by nearer ones, \
+             {} vertices, {} batches), {} points inside the viewing circle",
             self.drawn,
             self.special,
             self.seam_copies,
             self.splatted,
+            self.occluded,
             self.vertices,
             self.batches,
             self.culled
@@ -96,6 +103,7 @@ mod tests {
             overflow: 0,
             vertices: 6,
             splatted: 7,
+            occluded: 8,
         };
         let right = EyeStats {
             culled: 10,
@@ -105,16 +113,18 @@ mod tests {
             overflow: 0,
             vertices: 60,
             splatted: 70,
+            occluded: 80,
         };
         let s = RasterStats::sum(&[left, right], 5).unwrap();
         assert_eq!(
             s,
             RasterStats {
                 culled: 11,
-                drawn: 22 + 77,
+                drawn: 22 + 77 + 88,
                 special: 33,
                 seam_copies: 44,
                 splatted: 77,
+                occluded: 88,
                 vertices: 66,
                 batches: 5,
             }
