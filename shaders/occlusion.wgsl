@@ -16,11 +16,19 @@ fn ray_origin_reach(v: View) -> f32 {
     return 0.0;
 }
 
-// Distance below which no ray of `p`'s view meets it, less a rounding margin.
+// Distance below which no ray of `p`'s view meets it, less a rounding margin. Every ray
+// starts within h of C, so no hit is nearer than |centre| - radius - h. An ODS ray also
+// starts square to its direction u, so its hit lies at least centre.u - radius along it, and
+// u is within the cone of the ball of radius + h around the centre, seen from C.
 fn nearest_possible(p: PointSphere) -> f32 {
     let h = ray_origin_reach(p.view);
     let d = length(p.centre);
-    return (d - p.radius - h) - 1e-4 * (d + p.radius + h);
+    var near = d - p.radius - h;
+    let sin_cone = (p.radius + h) / d;
+    if h > 0.0 && p.view.model != MODEL_PARALLEL && sin_cone < 1.0 {
+        near = max(near, d * sqrt(1.0 - sin_cone * sin_cone) - p.radius);
+    }
+    return near - 1e-4 * (d + p.radius + h);
 }
 
 // Unwrapped columns [x0, x1] wrapped into [0, W): (first, last) of one range, then of a
@@ -91,7 +99,7 @@ fn whole_tiles(a: i32, b: i32, n: i32) -> vec2<i32> {
 // at every pixel of the tiles inside its silhouette, and within what distance. Per tile, take
 // the ray origin o0 of its first pixel: the others' origins lie within
 // delta = h (dlam + |dmerge|) of it (an ODS origin is e h merge(phi) times a unit vector
-// turning with the longitude; the merge, at most 1, does not grow with |phi|). A ray whose
+// turning with the longitude). A ray whose
 // direction's line from o0 passes within radius - delta of the centre then passes within the
 // radius from its own origin, in front of it: it hits, at most |centre - o0| + delta away.
 // That is tested at the tile's corner pixels: over a small longitude-latitude box the angle
@@ -118,8 +126,7 @@ fn cover_tiles(p: PointSphere, px: vec4<i32>) {
         for (var ty = rows.x; ty <= rows.y; ty++) {
             let y0 = ty * side;
             let y1 = min(y0 + side - 1, size.y - 1);
-            let merge_lo = min(row_merge(y0), row_merge(y1));
-            let delta = h * (dlam + 1.0 - merge_lo);
+            let delta = h * (dlam + merge_spread(y0, y1));
             for (var tx = tiles.x; tx <= tiles.y; tx++) {
                 let x0 = tx * side;
                 let x1 = min(x0 + side - 1, size.x - 1);
@@ -143,6 +150,19 @@ fn cover_tiles(p: PointSphere, px: vec4<i32>) {
 // Row `y`'s pole-merge factor, from the pixel trigonometry.
 fn row_merge(y: i32) -> f32 {
     return pixel_trig[u32(params.image_size.x) + u32(y)].z;
+}
+
+// How much the pole-merge factor can vary between rows y0 and y1: within a hemisphere it
+// does not grow with |phi|, so it lies between theirs; across the equator, between the
+// smaller of theirs and 1.
+fn merge_spread(y0: i32, y1: i32) -> f32 {
+    let m0 = row_merge(y0);
+    let m1 = row_merge(y1);
+    let rows = i32(params.image_size.y);
+    if (2 * y0 + 1 < rows) != (2 * y1 + 1 < rows) {
+        return 1.0 - min(m0, m1);
+    }
+    return abs(m0 - m1);
 }
 
 // Whether the line along the ray direction of pixel `px` passes within `reach` of `c` (the
