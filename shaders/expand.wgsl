@@ -282,9 +282,10 @@ fn point_sphere(idx: u32) -> PointSphere {
     return PointSphere(s, pt.radius, sphere_view(params, s));
 }
 
-// Writes the proxy of point `idx` of the chunk. llvmpipe runs every branch here for each
-// group of lanes, masked, taken or not, so the splat (splat.wgsl) passes on only the few
-// spheres it does not ray cast itself, in a second dispatch, to `expand_raycast_bounds`.
+// Writes the proxy of point `idx` of the chunk, in any proxy mode. The keyed path's
+// dispatches (splat.wgsl) call `expand_raycast_bounds` alone: an entry point that reaches the
+// billboards' code takes lavapipe about five times as long to compile, though the pipeline
+// constants fold it away.
 fn expand_point(idx: u32) {
     let p = point_sphere(idx);
     let s = p.centre;
