@@ -58,20 +58,35 @@ fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let idx = listed.points[gid.x];
     let p = point_sphere(idx);
-    // Ordinary spheres of the full equirect are tested against the tiles and then cover them.
-    var px = vec4<i32>(0, 0, -1, -1);
-    if projection_of(params).kind == PROJ_EQUIRECT_FULL && has_projection(p.view, p.centre) {
-        let bounds = sphere_bounds(p.view, p.centre, p.radius);
-        if !bounds.special {
-            px = bounds_pixels(bounds.rect);
-        }
-    }
-    if hidden_by_tiles(px, nearest_possible(p)) {
+    // Ordinary spheres are tested against the tiles, then cover them.
+    let o = ordinary_pixels(p);
+    if o.ok && hidden_by_tiles(o.px, nearest_possible(p)) {
         count(STAT_OCCLUDED, 1u);
         return;
     }
     expand_raycast_bounds(p, idx);
-    cover_tiles(p, px);
+    if o.ok {
+        cover_tiles(p, o.px);
+    }
+}
+
+// The pixels (`bounds_pixels`) of a sphere's analytic bounds in the full equirect; not ok
+// where the sphere is not ordinary: its centre has no projection or it is special.
+struct OrdinaryPixels {
+    ok: bool,
+    px: vec4<i32>,
+}
+
+fn ordinary_pixels(p: PointSphere) -> OrdinaryPixels {
+    let none = OrdinaryPixels(false, vec4<i32>(0));
+    if projection_of(params).kind != PROJ_EQUIRECT_FULL || !has_projection(p.view, p.centre) {
+        return none;
+    }
+    let bounds = sphere_bounds(p.view, p.centre, p.radius);
+    if bounds.special {
+        return none;
+    }
+    return OrdinaryPixels(true, bounds_pixels(bounds.rect));
 }
 
 // Appends point `idx` to the list, counting a workgroup of `expand_listed` per
@@ -93,14 +108,11 @@ fn splat_point(p: PointSphere, idx: u32) -> u32 {
     let radius = p.radius;
     let proj = projection_of(params);
     if proj.kind == PROJ_EQUIRECT_FULL {
-        if !has_projection(view, s) {
+        let o = ordinary_pixels(p);
+        if !o.ok {
             return SPLAT_LISTED;
         }
-        let bounds = sphere_bounds(view, s, radius);
-        if bounds.special {
-            return SPLAT_LISTED;
-        }
-        let px = bounds_pixels(bounds.rect);
+        let px = o.px;
         let limit = i32(params.splat_limit);
         if px.z - px.x >= limit || px.w - px.y >= limit {
             return SPLAT_LISTED;
