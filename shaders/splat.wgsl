@@ -154,35 +154,15 @@ fn bounds_pixels(r: Rect) -> vec4<i32> {
 // Ray casts sphere (s, radius) at pixels `px` (bounds_pixels).
 fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) {
     let w = i32(params.image_size.x);
-    let x0 = px.x;
-    let x1 = px.z;
     let payload = sphere_payload(idx);
-    // One loop over the rectangle's pixels rather than rows and columns: the lanes of a
-    // group run until the largest of their spheres is done, and this way that is its pixel
-    // count, not its widest row times its tallest column. The column wraps at the seam by
-    // comparison: an integer remainder per pixel is a scalar division per lane on llvmpipe.
-    let cols = x1 - x0 + 1;
-    let first_column = ((x0 % w) + w) % w;
-    var column = first_column;
-    var col = 0;
-    var y = px.y;
-    let rows = px.w - y + 1;
-    let pixels = select(0, cols * rows, cols > 0 && rows > 0);
-    for (var k = 0; k < pixels; k++) {
-        let r = table_pixel_ray(view, vec2<u32>(u32(column), u32(y)));
-        let t = intersect_sphere(r, s, radius);
-        if t > 0.0 {
-            atomicMax(&splat_keys[u32(y * w + column)], hit_key(t, payload));
-        }
-        column += 1;
-        if column == w {
-            column = 0;
-        }
-        col += 1;
-        if col == cols {
-            col = 0;
-            column = first_column;
-            y += 1;
+    for (var y = px.y; y <= px.w; y++) {
+        for (var x = px.x; x <= px.z; x++) {
+            let xw = ((x % w) + w) % w;
+            let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
+            let t = intersect_sphere(r, s, radius);
+            if t > 0.0 {
+                atomicMax(&splat_keys[u32(y * w + xw)], hit_key(t, payload));
+            }
         }
     }
 }
