@@ -130,15 +130,15 @@ fn cover_tiles(p: PointSphere, px: vec4<i32>) {
             for (var tx = tiles.x; tx <= tiles.y; tx++) {
                 let x0 = tx * side;
                 let x1 = min(x0 + side - 1, size.x - 1);
-                let o0 = table_pixel_ray(p.view, vec2<u32>(u32(x0), u32(y0))).origin;
-                let c = p.centre - o0;
+                let first = table_pixel_ray(p.view, vec2<u32>(u32(x0), u32(y0)));
+                let c = p.centre - first.origin;
                 let d = length(c);
                 let reach = (p.radius - delta) - (1e-4 * p.radius + 1e-6 * d);
                 if reach > 0.0
-                    && inside_silhouette(p.view, c, reach, vec2<i32>(x0, y0))
-                    && inside_silhouette(p.view, c, reach, vec2<i32>(x1, y0))
-                    && inside_silhouette(p.view, c, reach, vec2<i32>(x0, y1))
-                    && inside_silhouette(p.view, c, reach, vec2<i32>(x1, y1)) {
+                    && inside_silhouette(c, reach, first.dir)
+                    && inside_silhouette(c, reach, corner_dir(p.view, x1, y0))
+                    && inside_silhouette(c, reach, corner_dir(p.view, x0, y1))
+                    && inside_silhouette(c, reach, corner_dir(p.view, x1, y1)) {
                     let far = (d + delta) * (1.0 + 1e-4);
                     atomicMax(&tile_far[u32(ty) * across + u32(tx)], ~bitcast<u32>(far));
                 }
@@ -165,9 +165,13 @@ fn merge_spread(y0: i32, y1: i32) -> f32 {
     return abs(m0 - m1);
 }
 
-// Whether the line along the ray direction of pixel `px` passes within `reach` of `c` (the
-// centre relative to the line's origin), on its side of the origin.
-fn inside_silhouette(v: View, c: vec3<f32>, reach: f32, px: vec2<i32>) -> bool {
-    let dir = table_pixel_ray(v, vec2<u32>(px)).dir;
+// The ray direction of pixel (x, y).
+fn corner_dir(v: View, x: i32, y: i32) -> vec3<f32> {
+    return table_pixel_ray(v, vec2<u32>(u32(x), u32(y))).dir;
+}
+
+// Whether the line along `dir` passes within `reach` of `c` (the centre relative to the
+// line's origin), on its side of the origin.
+fn inside_silhouette(c: vec3<f32>, reach: f32, dir: vec3<f32>) -> bool {
     return dot(c, dir) > 0.0 && length(cross(c, dir)) <= reach;
 }

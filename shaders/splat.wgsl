@@ -58,27 +58,31 @@ fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let idx = listed.points[gid.x];
     let p = point_sphere(idx);
-    // Ordinary spheres are tested against the tiles, then cover them.
     let o = ordinary_pixels(p);
-    if o.ok && hidden_by_tiles(o.px, nearest_possible(p)) {
+    if !o.ok {
+        expand_raycast_bounds(p, idx);
+        return;
+    }
+    // An ordinary sphere is tested against the tiles, drawn as its bounds (as
+    // `expand_raycast_bounds` would, from the same bounds), then covers them.
+    if hidden_by_tiles(o.px, nearest_possible(p)) {
         count(STAT_OCCLUDED, 1u);
         return;
     }
-    expand_raycast_bounds(p, idx);
-    if o.ok {
-        cover_tiles(p, o.px);
-    }
+    emit_rect(o.rect, idx);
+    cover_tiles(p, o.px);
 }
 
-// The pixels (`bounds_pixels`) of a sphere's analytic bounds in the full equirect; not ok
+// A sphere's analytic bounds in the full equirect and their pixels (`bounds_pixels`); not ok
 // where the sphere is not ordinary: its centre has no projection or it is special.
 struct OrdinaryPixels {
     ok: bool,
+    rect: Rect,
     px: vec4<i32>,
 }
 
 fn ordinary_pixels(p: PointSphere) -> OrdinaryPixels {
-    let none = OrdinaryPixels(false, vec4<i32>(0));
+    let none = OrdinaryPixels(false, full_rect(), vec4<i32>(0));
     if projection_of(params).kind != PROJ_EQUIRECT_FULL || !has_projection(p.view, p.centre) {
         return none;
     }
@@ -86,7 +90,7 @@ fn ordinary_pixels(p: PointSphere) -> OrdinaryPixels {
     if bounds.special {
         return none;
     }
-    return OrdinaryPixels(true, bounds_pixels(bounds.rect));
+    return OrdinaryPixels(true, bounds.rect, bounds_pixels(bounds.rect));
 }
 
 // Appends point `idx` to the list, counting a workgroup of `expand_listed` per

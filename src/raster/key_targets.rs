@@ -26,13 +26,13 @@ pub struct KeyedTargets {
 }
 
 impl KeyedTargets {
-    /// Allocates the keys of a `width x height` eye.
+    /// Allocates the keys and occlusion tiles of a `width x height` eye.
     pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Result<Self, RasterError> {
         ctx.scoped("allocating splat keys", || KeyedTargets {
             width,
             height,
-            keys: key_buffer(&ctx.device, key_bytes(width, height)),
-            tiles: key_buffer(&ctx.device, tile_bytes(width, height)),
+            keys: key_buffer(&ctx.device, "splat keys", key_bytes(width, height)),
+            tiles: key_buffer(&ctx.device, "occlusion tiles", tile_bytes(width, height)),
             readback: None,
         })
     }

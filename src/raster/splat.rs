@@ -46,10 +46,11 @@ pub fn tile_bytes(width: u32, height: u32) -> u64 {
     tiles(width) * tiles(height) * size_of::<u32>() as u64
 }
 
-/// Allocates a key buffer of `bytes` (one `u64` per pixel of one eye).
-pub fn key_buffer(device: &wgpu::Device, bytes: u64) -> wgpu::Buffer {
+/// Allocates `bytes` of one eye's keyed image, `label`led: its keys (one `u64` per pixel) or
+/// its occlusion tiles.
+pub fn key_buffer(device: &wgpu::Device, label: &str, bytes: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("splat keys"),
+        label: Some(label),
         size: bytes,
         usage: wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_DST

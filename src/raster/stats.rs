@@ -9,7 +9,8 @@ use bytemuck::{Pod, Zeroable};
 pub struct EyeStats {
     /// Points whose centre has no projection.
     pub culled: u32,
-    /// Points that produced a proxy (splatted ones are counted in `splatted` alone).
+    /// Points that produced a proxy (splatted and hidden ones are counted in `splatted` and
+    /// `occluded` alone).
     pub drawn: u32,
     /// Proxies drawn as analytic bounds with forced ray casting.
     pub special: u32,
