@@ -1,12 +1,10 @@
-// Occlusion by tiles, on the keyed path: each TILE_SIDE x TILE_SIDE tile of an eye keeps a
-// distance within which every pixel of it is known to show a hit, so a sphere whose nearest
-// possible point lies beyond that in every tile it touches is skipped whole, leaving the image
-// bit for bit the same. The drawn spheres (`expand_listed`) record the tiles inside their
-// silhouettes; the splat and the drawn spheres of later batches and chunks test against
-// them. Appended to the expand module after splat.wgsl.
-
-// Per tile, row by row: !distance bits (0: nothing known), kept with atomicMax.
-@group(0) @binding(9) var<storage, read_write> tile_far: array<atomic<u32>>;
+// Occlusion by tiles, on the keyed path: each tile of an eye (tiles.wgsl) keeps a distance
+// within which every pixel of it is known to show a hit, so a sphere whose nearest possible
+// point lies beyond that in every tile it touches is skipped whole, leaving the image bit for
+// bit the same. The drawn spheres (`expand_listed`) record the tiles inside their
+// silhouettes, and between batches tile_resolve.wgsl raises each tile to what its pixels
+// show; the splat and the drawn spheres of later batches and chunks test against them.
+// Appended to the expand module after splat.wgsl and tiles.wgsl.
 
 // How far from C the rays of view `v` start: half the IPD for a stereo eye, 0 for mono.
 fn ray_origin_reach(v: View) -> f32 {
@@ -49,10 +47,6 @@ fn wrapped_columns(x0: i32, x1: i32) -> vec4<i32> {
         return vec4<i32>(a, b, 1, 0);
     }
     return vec4<i32>(a, w - 1, 0, b - w);
-}
-
-fn tiles_across() -> u32 {
-    return (u32(params.image_size.x) + TILE_SIDE - 1u) / TILE_SIDE;
 }
 
 // True when every tile that pixels `px` (x0, y0, x1, y1; columns unwrapped) touch shows a

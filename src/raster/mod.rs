@@ -37,6 +37,7 @@ mod splat;
 mod splat_shade;
 mod stats;
 mod targets;
+mod tile_resolve;
 mod timing;
 mod upload;
 

@@ -44,6 +44,8 @@ pub struct RasterFrame<'r> {
     keep: bool,
     clock: FrameClock,
     batches: u64,
+    /// Per eye, whether batches were drawn since its occlusion tiles were last resolved.
+    unresolved: [bool; MAX_EYES],
     camera_offset: [f32; 3],
 }
 
@@ -101,6 +103,7 @@ impl Rasterizer {
             keep,
             clock,
             batches: 0,
+            unresolved: [false; MAX_EYES],
             camera_offset: [0.0; 3],
         })
     }
@@ -208,13 +211,19 @@ impl<'r> RasterFrame<'r> {
                         &chunk.colors,
                         keys.map(|eye| &eye.keys),
                     );
-                    (expand, draw)
+                    let resolve = r.resolve.as_ref().zip(keys).map(|(resolve, eye)| {
+                        resolve.bind(device, &self.buffers.params, &eye.keys, &eye.tiles)
+                    });
+                    (expand, draw, resolve)
                 })
                 .collect::<Vec<_>>()
         })?;
         self.clock.start();
         let vertex_capacity = self.sizing.vertex_capacity;
-        for (eye, (view, (expand_bg, draw_bg))) in self.views.iter().zip(&bind_groups).enumerate() {
+        let img = self.settings.image;
+        for (eye, (view, (expand_bg, draw_bg, resolve_bg))) in
+            self.views.iter().zip(&bind_groups).enumerate()
+        {
             let mut first = 0u32;
             while first < chunk.len {
                 let count = (chunk.len - first).min(self.sizing.batch_points);
@@ -240,6 +249,12 @@ impl<'r> RasterFrame<'r> {
                         .write_buffer(groups, 0, splat::NO_GROUPS.as_bytes());
                 }
                 let mut encoder = device.create_command_encoder(&Default::default());
+                // What earlier batches drew hides spheres of this one.
+                if let (Some(resolve), Some(bg), true) =
+                    (&r.resolve, resolve_bg, self.unresolved[eye])
+                {
+                    resolve.dispatch(&mut encoder, bg, &self.trig, (img.width, img.height));
+                }
                 let writes = self.clock.first_pass_writes(self.batches == 0);
                 let listed_groups = self.buffers.listed.as_ref().map(|(_, groups)| groups);
                 r.expand.dispatch(
@@ -264,6 +279,7 @@ impl<'r> RasterFrame<'r> {
                 ctx.wait("drawing imposters")?;
                 progress.inc(count as u64);
                 self.batches += 1;
+                self.unresolved[eye] = true;
                 first += count;
             }
             // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index
@@ -279,7 +295,6 @@ impl<'r> RasterFrame<'r> {
                     )
                 })?;
                 let mut encoder = device.create_command_encoder(&Default::default());
-                let img = self.settings.image;
                 shade.dispatch(&mut encoder, &bg, &self.trig, (img.width, img.height));
                 ctx.queue.submit([encoder.finish()]);
                 ctx.wait("shading the splatted spheres")?;

@@ -17,6 +17,7 @@ use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::specialisation::Specialisation;
 use super::splat::DEFAULT_SPLAT_LIMIT;
 use super::splat_shade::ShadePipeline;
+use super::tile_resolve::ResolvePipeline;
 
 /// The pipelines a frame draws with, compiled for one [`Specialisation`] and path.
 pub(crate) struct Pipelines {
@@ -26,6 +27,8 @@ pub(crate) struct Pipelines {
     pub(crate) imposter: ImposterPipeline,
     /// On the keyed path under a lit shading only.
     pub(crate) shade: Option<ShadePipeline>,
+    /// On the keyed path only.
+    pub(crate) resolve: Option<ResolvePipeline>,
 }
 
 /// The shader modules every specialisation is compiled from.
@@ -33,6 +36,7 @@ struct Modules {
     expand: wgpu::ShaderModule,
     imposter: wgpu::ShaderModule,
     shade: wgpu::ShaderModule,
+    resolve: wgpu::ShaderModule,
 }
 
 /// A GPU imposter-sphere rasterizer bound to one device; reusable across renders.
@@ -67,15 +71,17 @@ impl Rasterizer {
             super::expand::source(ctx.int64_atomics),
             super::imposter::source(ctx.int64_atomics),
             super::splat_shade::source(),
+            super::tile_resolve::source(),
         ];
         let hashed: Vec<&str> = sources.iter().map(String::as_str).collect();
         let cache = PipelineCache::open(device, &ctx.adapter_info, ctx.pipeline_cache, &hashed);
-        let [expand, imposter, shade] = sources;
+        let [expand, imposter, shade, resolve] = sources;
         let (modules, trig_layout) = ctx.scoped("loading the rasterizer shaders", || {
             let modules = Modules {
                 expand: shaders::module(device, "expand.wgsl", expand),
                 imposter: shaders::module(device, "imposter.wgsl", imposter),
                 shade: shaders::module(device, "splat_shade.wgsl", shade),
+                resolve: shaders::module(device, "tile_resolve.wgsl", resolve),
             };
             (modules, pixel_trig::layout(device))
         })?;
@@ -123,6 +129,7 @@ impl Rasterizer {
                 imposter: ImposterPipeline::new(device, &src(&m.imposter), keyed),
                 shade: (keyed && spec.shading != SHADING_UNLIT)
                     .then(|| ShadePipeline::new(device, &src(&m.shade))),
+                resolve: keyed.then(|| ResolvePipeline::new(device, &src(&m.resolve))),
             }
         })?;
         cache.save();

@@ -214,6 +214,7 @@ mod tests {
         validate("imposter", &super::super::imposter::source(false));
         validate("imposter + keyed", &super::super::imposter::source(true));
         validate("deferred shading", &super::super::splat_shade::source());
+        validate("tile resolve", &super::super::tile_resolve::source());
         validate("probe", &super::super::probe::source());
     }
 }

@@ -11,6 +11,8 @@ use super::constants::TILE_SIDE;
 pub const SPLAT_KEY: &str = include_str!("../../shaders/splat_key.wgsl");
 /// `shaders/splat.wgsl`: the splat (64-bit atomics).
 const SPLAT: &str = include_str!("../../shaders/splat.wgsl");
+/// `shaders/tiles.wgsl`: the occlusion tiles' buffer.
+pub const TILES: &str = include_str!("../../shaders/tiles.wgsl");
 /// `shaders/occlusion.wgsl`: the tiles that let hidden spheres be skipped whole.
 const OCCLUSION: &str = include_str!("../../shaders/occlusion.wgsl");
 
@@ -22,7 +24,7 @@ pub const DEFAULT_SPLAT_LIMIT: u32 = 16;
 /// 64-bit atomics, else nothing.
 pub fn expand_part(int64_atomics: bool) -> String {
     if int64_atomics {
-        [SPLAT_KEY, SPLAT, OCCLUSION].join("\n")
+        [SPLAT_KEY, SPLAT, TILES, OCCLUSION].join("\n")
     } else {
         String::new()
     }
@@ -42,8 +44,12 @@ pub const NO_GROUPS: wgpu::util::DispatchIndirectArgs =
 /// Bytes of the occlusion tiles of a `width x height` eye (`shaders/occlusion.wgsl`): a `u32`
 /// per tile of `TILE_SIDE` pixels a side.
 pub fn tile_bytes(width: u32, height: u32) -> u64 {
-    let tiles = |n: u32| n.div_ceil(TILE_SIDE) as u64;
-    tiles(width) * tiles(height) * size_of::<u32>() as u64
+    tile_count(width, height) as u64 * size_of::<u32>() as u64
+}
+
+/// Occlusion tiles of a `width x height` eye.
+pub fn tile_count(width: u32, height: u32) -> u32 {
+    width.div_ceil(TILE_SIDE) * height.div_ceil(TILE_SIDE)
 }
 
 /// Allocates `bytes` of one eye's keyed image, `label`led: its keys (one `u64` per pixel) or

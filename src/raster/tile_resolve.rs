@@ -1,0 +1,77 @@
+//! The tile resolve of the keyed path (`shaders/tile_resolve.wgsl`): between batches, raises
+//! each occlusion tile of an eye to the distance of its farthest pixel once all its pixels
+//! show a hit, so the spheres of later batches are skipped behind what earlier ones drew
+//! together, not only behind one large sphere.
+
+use super::constants::RESOLVE_WORKGROUP;
+use super::shaders::{self, PARAMS};
+use super::splat::TILES;
+
+/// `shaders/tile_resolve.wgsl`.
+const TILE_RESOLVE: &str = include_str!("../../shaders/tile_resolve.wgsl");
+
+/// Source of the tile-resolve module.
+pub fn source() -> String {
+    shaders::compose(&[PARAMS, TILES, TILE_RESOLVE])
+}
+
+/// The tile-resolve pipeline and its bind group layout.
+pub struct ResolvePipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl ResolvePipeline {
+    /// Compiles the pipeline from `src` (a [`source`] module).
+    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
+        use wgpu::BufferBindingType::{Storage, Uniform};
+        let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
+        let entries = [
+            entry(0, Uniform),
+            entry(3, Storage { read_only: true }),
+            entry(9, Storage { read_only: false }),
+        ];
+        let (layout, pipeline) =
+            shaders::compute_pipeline(device, "tile resolve", src, "resolve_tiles", &entries);
+        ResolvePipeline { layout, pipeline }
+    }
+
+    /// Binds the `Params` uniform and an eye's keys and occlusion tiles.
+    pub fn bind(
+        &self,
+        device: &wgpu::Device,
+        params: &wgpu::Buffer,
+        keys: &wgpu::Buffer,
+        tiles: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tile resolve"),
+            layout: &self.layout,
+            entries: &[
+                shaders::bind(0, params),
+                shaders::bind(3, keys),
+                shaders::bind(9, tiles),
+            ],
+        })
+    }
+
+    /// Records the resolve of a `width x height` eye's tiles; `trig` fills bind group 1,
+    /// which every rasterizer pipeline lays out.
+    pub fn dispatch(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        bind_group: &wgpu::BindGroup,
+        trig: &wgpu::BindGroup,
+        (width, height): (u32, u32),
+    ) {
+        let tiles = super::splat::tile_count(width, height);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("tile resolve"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(1, trig, &[]);
+        pass.dispatch_workgroups(tiles.div_ceil(RESOLVE_WORKGROUP), 1, 1);
+    }
+}
