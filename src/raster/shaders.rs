@@ -152,6 +152,25 @@ pub fn compute_pipeline(
     (layout, pipeline)
 }
 
+/// Records one compute pass `label` of `pipeline` over `workgroups`, with `bind_group` as
+/// group 0 and the pixel trigonometry `trig` as group 1.
+pub fn dispatch_compute(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    [bind_group, trig]: [&wgpu::BindGroup; 2],
+    [x, y]: [u32; 2],
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind_group, &[]);
+    pass.set_bind_group(1, trig, &[]);
+    pass.dispatch_workgroups(x, y, 1);
+}
+
 /// `buffer`, whole, at `binding`.
 pub fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry {

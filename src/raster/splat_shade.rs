@@ -65,17 +65,17 @@ impl ShadePipeline {
         trig: &wgpu::BindGroup,
         (width, height): (u32, u32),
     ) {
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("deferred shading"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
-        pass.set_bind_group(1, trig, &[]);
-        pass.dispatch_workgroups(
+        let groups = [
             width.div_ceil(SHADE_WORKGROUP_SIDE),
             height.div_ceil(SHADE_WORKGROUP_SIDE),
-            1,
+        ];
+        let groups_of = [bind_group, trig];
+        shaders::dispatch_compute(
+            encoder,
+            "deferred shading",
+            &self.pipeline,
+            groups_of,
+            groups,
         );
     }
 }

@@ -5,7 +5,7 @@
 
 use super::constants::RESOLVE_WORKGROUP;
 use super::shaders::{self, PARAMS};
-use super::splat::TILES;
+use super::splat::{TILES, tile_count};
 
 /// `shaders/tile_resolve.wgsl`.
 const TILE_RESOLVE: &str = include_str!("../../shaders/tile_resolve.wgsl");
@@ -64,14 +64,8 @@ impl ResolvePipeline {
         trig: &wgpu::BindGroup,
         (width, height): (u32, u32),
     ) {
-        let tiles = super::splat::tile_count(width, height);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("tile resolve"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
-        pass.set_bind_group(1, trig, &[]);
-        pass.dispatch_workgroups(tiles.div_ceil(RESOLVE_WORKGROUP), 1, 1);
+        let groups = [tile_count(width, height).div_ceil(RESOLVE_WORKGROUP), 1];
+        let groups_of = [bind_group, trig];
+        shaders::dispatch_compute(encoder, "tile resolve", &self.pipeline, groups_of, groups);
     }
 }
