@@ -6,7 +6,7 @@ mod raster_common;
 use omnicloud::bench::{
     BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
 };
-use omnicloud::render::Imposter;
+use omnicloud::render::{Imposter, Proxy};
 use omnicloud::suite::scenes;
 
 #[test]
@@ -60,6 +60,20 @@ fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
             m.accuracy.bands.iter().map(|b| b.pixels).sum::<u64>(),
             128 * 64
         );
+        // Only the exact mode splats (on a device with 64-bit atomics), and only the splat's
+        // path skips hidden spheres; both are counted among the drawn.
+        let st = &m.stats;
+        assert!(
+            st.splatted + st.hidden <= st.drawn,
+            "{}: {st:?}",
+            m.mode.label()
+        );
+        let exact = m.mode.proxy == Proxy::Bounds && m.mode.imposter == Imposter::Raycast;
+        if exact && raster.can_splat() {
+            assert!(st.splatted > 0, "{}: {st:?}", m.mode.label());
+        } else {
+            assert_eq!((st.splatted, st.hidden), (0, 0), "{}", m.mode.label());
+        }
     }
 
     let dir = tempfile::tempdir().unwrap();
@@ -68,6 +82,7 @@ fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
         serde_json::from_str(&std::fs::read_to_string(&files.json).unwrap()).unwrap();
     assert_eq!(back.modes.len(), 10);
     assert_eq!(back.modes[3].mode, report.modes[3].mode);
+    assert_eq!(back.modes[9].stats, report.modes[9].stats);
 
     let csv = std::fs::read_to_string(&files.csv).unwrap();
     assert_eq!(csv.lines().count(), 11);

@@ -120,6 +120,12 @@ pub struct ModeStats {
     pub seam_copies: u64,
     /// Vertices written.
     pub vertices: u64,
+    /// Spheres the compute splat ray cast instead of drawing (counted in `drawn`).
+    #[serde(default)]
+    pub splatted: u64,
+    /// Spheres skipped whole, hidden by nearer ones (counted in `drawn`).
+    #[serde(default)]
+    pub hidden: u64,
 }
 
 /// One rasterizer mode's speed and accuracy.
@@ -247,6 +253,8 @@ struct CsvRow<'a> {
     special: u64,
     seam_copies: u64,
     vertices: u64,
+    splatted: u64,
+    hidden: u64,
 }
 
 impl<'a> CsvRow<'a> {
@@ -280,6 +288,8 @@ impl<'a> CsvRow<'a> {
             special: m.stats.special,
             seam_copies: m.stats.seam_copies,
             vertices: m.stats.vertices,
+            splatted: m.stats.splatted,
+            hidden: m.stats.hidden,
         }
     }
 }

@@ -148,6 +148,8 @@ pub fn run_bench_with(
                 special: stats.special,
                 seam_copies: stats.seam_copies,
                 vertices: stats.vertices,
+                splatted: stats.splatted,
+                hidden: stats.occluded,
             },
         });
     }
