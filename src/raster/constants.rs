@@ -56,9 +56,8 @@ shared_constants! {
     SHADE_WORKGROUP_SIDE: u32 = 8;
     /// Side of an occlusion tile, pixels (`shaders/occlusion.wgsl`).
     TILE_SIDE: u32 = 8;
-    /// Invocations per tile-resolve workgroup, a tile each (`@workgroup_size` of
-    /// `resolve_tiles`).
-    RESOLVE_WORKGROUP: u32 = 64;
+    /// Side of a tile-resolve workgroup, in tiles (`@workgroup_size` of `resolve_tiles`).
+    RESOLVE_WORKGROUP_SIDE: u32 = 8;
     /// Largest tessellation level the dynamic proxy may choose.
     MAX_DYNAMIC_LEVEL: u32 = 16;
     /// Bit 31 of a vertex's point index: shade this proxy by ray casting whatever the imposter

@@ -44,12 +44,8 @@ pub const NO_GROUPS: wgpu::util::DispatchIndirectArgs =
 /// Bytes of the occlusion tiles of a `width x height` eye (`shaders/occlusion.wgsl`): a `u32`
 /// per tile of `TILE_SIDE` pixels a side.
 pub fn tile_bytes(width: u32, height: u32) -> u64 {
-    tile_count(width, height) as u64 * size_of::<u32>() as u64
-}
-
-/// Occlusion tiles of a `width x height` eye.
-pub fn tile_count(width: u32, height: u32) -> u32 {
-    width.div_ceil(TILE_SIDE) * height.div_ceil(TILE_SIDE)
+    let tiles = |n: u32| n.div_ceil(TILE_SIDE) as u64;
+    tiles(width) * tiles(height) * size_of::<u32>() as u64
 }
 
 /// Allocates `bytes` of one eye's keyed image, `label`led: its keys (one `u64` per pixel) or

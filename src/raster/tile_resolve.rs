@@ -3,9 +3,9 @@
 //! show a hit, so the spheres of later batches are skipped behind what earlier ones drew
 //! together, not only behind one large sphere.
 
-use super::constants::RESOLVE_WORKGROUP;
+use super::constants::{RESOLVE_WORKGROUP_SIDE, TILE_SIDE};
 use super::shaders::{self, PARAMS};
-use super::splat::{TILES, tile_count};
+use super::splat::TILES;
 
 /// `shaders/tile_resolve.wgsl`.
 const TILE_RESOLVE: &str = include_str!("../../shaders/tile_resolve.wgsl");
@@ -64,7 +64,9 @@ impl ResolvePipeline {
         trig: &wgpu::BindGroup,
         (width, height): (u32, u32),
     ) {
-        let groups = [tile_count(width, height).div_ceil(RESOLVE_WORKGROUP), 1];
+        // Two dimensions: a wide image has more tiles than one may dispatch in a row.
+        let tiles = |n: u32| n.div_ceil(TILE_SIDE).div_ceil(RESOLVE_WORKGROUP_SIDE);
+        let groups = [tiles(width), tiles(height)];
         let groups_of = [bind_group, trig];
         shaders::dispatch_compute(encoder, "tile resolve", &self.pipeline, groups_of, groups);
     }
