@@ -44,8 +44,9 @@ pub struct RasterFrame<'r> {
     keep: bool,
     clock: FrameClock,
     batches: u64,
-    /// Per eye, whether batches were drawn since its occlusion tiles were last resolved.
-    unresolved: [bool; MAX_EYES],
+    /// Per eye, whether a batch was drawn this frame: its keys then hold what the next
+    /// batch's tile resolve reads.
+    drawn_any: [bool; MAX_EYES],
     camera_offset: [f32; 3],
 }
 
@@ -103,7 +104,7 @@ impl Rasterizer {
             keep,
             clock,
             batches: 0,
-            unresolved: [false; MAX_EYES],
+            drawn_any: [false; MAX_EYES],
             camera_offset: [0.0; 3],
         })
     }
@@ -251,7 +252,7 @@ impl<'r> RasterFrame<'r> {
                 let mut encoder = device.create_command_encoder(&Default::default());
                 // What earlier batches drew hides spheres of this one.
                 if let (Some(resolve), Some(bg), true) =
-                    (&r.resolve, resolve_bg, self.unresolved[eye])
+                    (&r.resolve, resolve_bg, self.drawn_any[eye])
                 {
                     resolve.dispatch(&mut encoder, bg, &self.trig, (img.width, img.height));
                 }
@@ -279,7 +280,7 @@ impl<'r> RasterFrame<'r> {
                 ctx.wait("drawing imposters")?;
                 progress.inc(count as u64);
                 self.batches += 1;
-                self.unresolved[eye] = true;
+                self.drawn_any[eye] = true;
                 first += count;
             }
             // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index

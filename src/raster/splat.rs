@@ -44,8 +44,12 @@ pub const NO_GROUPS: wgpu::util::DispatchIndirectArgs =
 /// Bytes of the occlusion tiles of a `width x height` eye (`shaders/occlusion.wgsl`): a `u32`
 /// per tile of `TILE_SIDE` pixels a side.
 pub fn tile_bytes(width: u32, height: u32) -> u64 {
-    let tiles = |n: u32| n.div_ceil(TILE_SIDE) as u64;
-    tiles(width) * tiles(height) * size_of::<u32>() as u64
+    tiles_along(width) as u64 * tiles_along(height) as u64 * size_of::<u32>() as u64
+}
+
+/// Occlusion tiles along an image side of `pixels` (the last one may be partial).
+pub fn tiles_along(pixels: u32) -> u32 {
+    pixels.div_ceil(TILE_SIDE)
 }
 
 /// Allocates `bytes` of one eye's keyed image, `label`led: its keys (one `u64` per pixel) or

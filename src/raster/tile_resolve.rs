@@ -3,9 +3,9 @@
 //! show a hit, so the spheres of later batches are skipped behind what earlier ones drew
 //! together, not only behind one large sphere.
 
-use super::constants::{RESOLVE_WORKGROUP_SIDE, TILE_SIDE};
+use super::constants::RESOLVE_WORKGROUP_SIDE;
 use super::shaders::{self, PARAMS};
-use super::splat::TILES;
+use super::splat::{TILES, tiles_along};
 
 /// `shaders/tile_resolve.wgsl`.
 const TILE_RESOLVE: &str = include_str!("../../shaders/tile_resolve.wgsl");
@@ -65,7 +65,7 @@ impl ResolvePipeline {
         (width, height): (u32, u32),
     ) {
         // Two dimensions: a wide image has more tiles than one may dispatch in a row.
-        let tiles = |n: u32| n.div_ceil(TILE_SIDE).div_ceil(RESOLVE_WORKGROUP_SIDE);
+        let tiles = |n: u32| tiles_along(n).div_ceil(RESOLVE_WORKGROUP_SIDE);
         let groups = [tiles(width), tiles(height)];
         let groups_of = [bind_group, trig];
         shaders::dispatch_compute(encoder, "tile resolve", &self.pipeline, groups_of, groups);
