@@ -167,7 +167,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
             let st = stats.expect("one frame");
             println!(
-                "{:5} {:>10} {:>8}: {:8.1} ms ({:?}; {:.1} ms with read-back; {} vertices, {} splatted, {} hidden by nearer ones, {} batches, {} culled)",
+                "{:5} {:>10} {:>8}: {:8.1} ms ({:?}; {:.1} ms with read-back; {} vertices, {} splatted, {} hidden by nearer ones, {} special, {} batches, {} culled)",
                 if matches!(stereo, Stereo::Mono) {
                     "mono"
                 } else {
@@ -181,6 +181,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 st.vertices,
                 st.splatted,
                 st.occluded,
+                st.special,
                 st.batches,
                 st.culled
             );

@@ -37,7 +37,9 @@ impl ImposterPipeline {
     /// keeping nearest-hit keys (the module must have the keyed stage).
     pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
         use wgpu::ShaderStages as S;
-        let mut entries = shaders::chunk_layout(S::VERTEX_FRAGMENT, S::FRAGMENT);
+        // The keyed vertex stage fetches each sphere and its colour for its fragments.
+        let chunk_stages = if keyed { S::VERTEX_FRAGMENT } else { S::FRAGMENT };
+        let mut entries = shaders::chunk_layout(S::VERTEX_FRAGMENT, chunk_stages);
         if keyed {
             let keys = wgpu::BufferBindingType::Storage { read_only: false };
             entries.push(shaders::buffer_layout(3, S::FRAGMENT, keys));
@@ -57,7 +59,7 @@ impl ImposterPipeline {
             layout: Some(&pipeline_layout),
             vertex: wgpu::VertexState {
                 module: src.module,
-                entry_point: Some("vs"),
+                entry_point: Some(if keyed { "vs_key" } else { "vs" }),
                 compilation_options: shaders::options(src.constants),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: size_of::<ExpandedVertex>() as u64,
