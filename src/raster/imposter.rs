@@ -38,7 +38,11 @@ impl ImposterPipeline {
     pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
         use wgpu::ShaderStages as S;
         // The keyed vertex stage fetches each sphere and its colour for its fragments.
-        let chunk_stages = if keyed { S::VERTEX_FRAGMENT } else { S::FRAGMENT };
+        let chunk_stages = if keyed {
+            S::VERTEX_FRAGMENT
+        } else {
+            S::FRAGMENT
+        };
         let mut entries = shaders::chunk_layout(S::VERTEX_FRAGMENT, chunk_stages);
         if keyed {
             let keys = wgpu::BufferBindingType::Storage { read_only: false };
