@@ -96,6 +96,12 @@ fn sphere_in(v: &View, (s, r): (DVec3, f64)) -> (DVec3, f64) {
 fn check(v: &View, s: DVec3, r: f64) -> Result<usize, String> {
     let image = Equirect::from_width(WIDTH);
     let bounds = sphere_bounds(v, s, r);
+    // The splat wraps a box's pixel columns into the image once: its longitudes must lie
+    // within one turn of 0.
+    let turn = 2.0 * PI + EDGE;
+    if bounds.rect.lo.x < -turn || bounds.rect.hi.x > turn {
+        return Err(format!("{bounds:?} reaches beyond one turn of longitude"));
+    }
     let grown = Rect {
         lo: bounds.rect.lo - DVec2::splat(EDGE),
         hi: bounds.rect.hi + DVec2::splat(EDGE),
