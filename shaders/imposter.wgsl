@@ -21,11 +21,15 @@ struct FragmentOut {
     @builtin(frag_depth) depth: f32,
 }
 
+// Clip-space position of image position `xy` (pixels).
+fn clip_position(xy: vec2<f32>) -> vec4<f32> {
+    let size = params.image_size;
+    return vec4<f32>(xy.x / size.x * 2.0 - 1.0, 1.0 - xy.y / size.y * 2.0, 0.5, 1.0);
+}
+
 @vertex
 fn vs(@location(0) xy: vec2<f32>, @location(1) uv: u32, @location(2) point: u32) -> VertexOut {
-    let size = params.image_size;
-    let clip = vec2<f32>(xy.x / size.x * 2.0 - 1.0, 1.0 - xy.y / size.y * 2.0);
-    return VertexOut(vec4<f32>(clip, 0.5, 1.0), unpack2x16snorm(uv), point);
+    return VertexOut(clip_position(xy), unpack2x16snorm(uv), point);
 }
 
 // Pixel `pos` (centre, pixels) seen for point `index`: the point's view, the pixel's ray in

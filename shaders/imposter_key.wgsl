@@ -19,9 +19,7 @@ fn vs_key(@location(0) xy: vec2<f32>, @location(2) point: u32) -> KeyedVertexOut
     let index = point & ~FORCE_RAYCAST;
     let pt = points[index];
     let centre = pt.position - params.camera_offset;
-    let size = params.image_size;
-    let clip = vec2<f32>(xy.x / size.x * 2.0 - 1.0, 1.0 - xy.y / size.y * 2.0);
-    return KeyedVertexOut(vec4<f32>(clip, 0.5, 1.0), vec4<f32>(centre, pt.radius),
+    return KeyedVertexOut(clip_position(xy), vec4<f32>(centre, pt.radius),
                           sphere_payload(index));
 }
 

@@ -36,12 +36,7 @@ fn wrapped_columns(x0: i32, x1: i32) -> vec4<i32> {
     if x1 - x0 + 1 >= w {
         return vec4<i32>(0, w - 1, 1, 0);
     }
-    var a = x0;
-    if a < 0 {
-        a += w;
-    } else if a >= w {
-        a -= w;
-    }
+    let a = wrap_column(x0);
     let b = a + (x1 - x0);
     if b < w {
         return vec4<i32>(a, b, 1, 0);

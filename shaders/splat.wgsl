@@ -155,15 +155,21 @@ fn bounds_pixels(r: Rect) -> vec4<i32> {
                                min(floor(br.y - 0.5), size.y - 1.0)));
 }
 
-// Ray casts sphere (s, radius) at pixels `px` (bounds_pixels: columns unwrapped, within one
-// width of the image, as a box's longitudes lie within 2 pi of 0).
+// Unwrapped column `x` in the image, for x within one width of it (bounds_pixels' columns
+// are: a box's longitudes lie within 2 pi of 0). Not `%`: llvmpipe divides integers one lane
+// at a time.
+fn wrap_column(x: i32) -> i32 {
+    let w = i32(params.image_size.x);
+    return select(select(x, x - w, x >= w), x + w, x < 0);
+}
+
+// Ray casts sphere (s, radius) at pixels `px` (bounds_pixels).
 fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) {
     let w = i32(params.image_size.x);
     let payload = sphere_payload(idx);
     for (var y = px.y; y <= px.w; y++) {
         for (var x = px.x; x <= px.z; x++) {
-            // Not `%`: llvmpipe divides integers one lane at a time.
-            let xw = select(select(x, x - w, x >= w), x + w, x < 0);
+            let xw = wrap_column(x);
             let r = table_pixel_ray(view, vec2<u32>(u32(xw), u32(y)));
             let t = intersect_sphere(r, s, radius);
             if t > 0.0 {

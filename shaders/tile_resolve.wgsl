@@ -2,7 +2,8 @@
 // pixel of it shows a hit: the keys hold each pixel's nearest hit so far, so no sphere whose
 // nearest possible point lies beyond that can show in the tile. Run between batches, it lets
 // the spheres of later batches be hidden by the union of earlier ones, not only by a single
-// large sphere. One invocation per tile, a workgroup per square of tiles; driven by src/raster/tile_resolve.rs.
+// large sphere. One invocation per tile, a workgroup per square of tiles; driven by
+// src/raster/tile_resolve.rs.
 
 @group(0) @binding(0) var<uniform> params: Params;
 // The eye's keys as u32 pairs (x = payload, y = !distance bits; splat_key.wgsl), read only:
