@@ -6,6 +6,7 @@ mod raster_common;
 use omnicloud::bench::{
     BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
 };
+use omnicloud::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{Imposter, Proxy};
 use omnicloud::suite::scenes;
 
@@ -118,4 +119,69 @@ fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
         let label = format!(">\n{}\n</text>", mode.proxy_name());
         assert_eq!(svg.matches(&label).count(), 2, "{}", mode.proxy_name());
     }
+}
+
+#[test]
+fn a_stereo_bench_times_mono_frames_beside_its_pairs() {
+    let Some(raster) = raster_common::rasterizer() else {
+        return;
+    };
+    let suite_scene = scenes::poles();
+    let entry = omnicloud::suite::manifest_of(std::slice::from_ref(&suite_scene)).scenes[0].clone();
+    let scene = suite_scene.to_scene();
+    let base = entry.settings(scene.origin).unwrap();
+    let exact = BenchMode {
+        proxy: Proxy::Bounds,
+        imposter: Imposter::Raycast,
+    };
+    let config = BenchConfig {
+        width: Some(256),
+        stereo: Some(Stereo::Ods {
+            ipd: 0.064,
+            merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+            offset: OdsOffset::Exact,
+        }),
+        modes: vec![exact],
+        ..BenchConfig::quick()
+    };
+    let pb = indicatif::ProgressBar::hidden();
+    let report = run_bench_with(&raster, "poles", &scene, &base, &config, &pb).unwrap();
+    assert_eq!(report.stereo, "ods");
+    assert_eq!(
+        pb.position(),
+        1 + (1 + 3) * 2,
+        "one tick for the reference, one per pair and one per mono frame"
+    );
+    let m = report.mode(exact).unwrap();
+    let mono = m.mono_frame_ms.expect("mono frames timed");
+    let ratio = m.stereo_over_mono().unwrap();
+    eprintln!(
+        "pair {:.2} ms, mono {mono:.2} ms, ratio {ratio:.2}",
+        m.frame_ms
+    );
+    // Two eyes are more work than one; each eye no more than twice a mono frame.
+    assert!((1.0..4.0).contains(&ratio), "{ratio}");
+    // The pair is still checked against the stereo reference: both eyes' pixels.
+    assert_eq!(
+        m.accuracy.bands.iter().map(|b| b.pixels).sum::<u64>(),
+        2 * 256 * 128
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let files = write_outputs(&report, dir.path()).unwrap();
+    let back: BenchReport =
+        serde_json::from_str(&std::fs::read_to_string(&files.json).unwrap()).unwrap();
+    assert_eq!(back.modes[0].mono_frame_ms, Some(mono));
+    let md = std::fs::read_to_string(&files.markdown).unwrap();
+    let row = format!("| raycast | stereo / mono | {ratio:.2} (mono {mono:.2} ms) |");
+    assert!(md.contains(&row), "{md}");
+
+    // Without the baseline, as `--no-mono-baseline`: pairs only.
+    let config = BenchConfig {
+        mono_baseline: false,
+        ..config
+    };
+    let report = run_bench_with(&raster, "poles", &scene, &base, &config, &pb).unwrap();
+    assert_eq!(report.modes[0].mono_frame_ms, None);
+    assert!(!omnicloud::bench::report::markdown(&report).contains("stereo / mono"));
 }

@@ -10,7 +10,8 @@ use super::mode::BenchMode;
 /// The CLI maps `--width W` to [`BenchConfig::width`], `--stereo` (with `--ipd`, the
 /// `--pole-merge` options and `--ods-offset`) to [`BenchConfig::stereo`],
 /// `--modes a,b` to [`BenchConfig::modes`] (labels as [`BenchMode::parse`] reads them),
-/// `--warmup N` / `--frames N` to the frame counts, `--out DIR` to the output folder given to
+/// `--warmup N` / `--frames N` to the frame counts, `--no-mono-baseline` to
+/// [`BenchConfig::mono_baseline`], `--out DIR` to the output folder given to
 /// `write_outputs`, and `--suite DIR` to `run_suite`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BenchConfig {
@@ -27,10 +28,13 @@ pub struct BenchConfig {
     pub warmup_frames: usize,
     /// Frames timed per mode; the report gives their median.
     pub timed_frames: usize,
+    /// With a stereo setting, also time a mono frame of the same camera and mode after each
+    /// stereo frame (warm-up included), for the stereo / mono ratio measured in one run.
+    pub mono_baseline: bool,
 }
 
 impl Default for BenchConfig {
-    /// All ten modes, 2 warm-up frames, median of 5.
+    /// All ten modes, 2 warm-up frames, median of 5, stereo timed against mono.
     fn default() -> Self {
         BenchConfig {
             width: None,
@@ -39,6 +43,7 @@ impl Default for BenchConfig {
             modes: BenchMode::all(),
             warmup_frames: 2,
             timed_frames: 5,
+            mono_baseline: true,
         }
     }
 }

@@ -147,12 +147,26 @@ pub struct ModeResult {
     /// live viewer gets.
     #[serde(default)]
     pub sustained_fps: f64,
+    /// Median frame time of the mono frames of the same camera and mode timed between the
+    /// stereo ones, milliseconds (a stereo benchmark with the mono baseline only; in the
+    /// JSON only, as the CSV keeps the columns of the committed benchmark files).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mono_frame_ms: Option<f64>,
     /// How the frame times were measured.
     pub timing: TimingKind,
     /// Accuracy of the first timed frame against the reference.
     pub accuracy: Accuracy,
     /// Rasterizer counts.
     pub stats: ModeStats,
+}
+
+impl ModeResult {
+    /// Median stereo frame over median mono frame, when mono frames were timed beside it.
+    pub fn stereo_over_mono(&self) -> Option<f64> {
+        self.mono_frame_ms
+            .filter(|&m| m > 0.0)
+            .map(|m| self.frame_ms / m)
+    }
 }
 
 /// The ray-traced reference render.
@@ -380,7 +394,7 @@ pub fn markdown(report: &BenchReport) -> String {
     }
     out.push('\n');
     type Metric = (&'static str, fn(&ModeResult) -> String);
-    let metrics: [Metric; 5] = [
+    let mut metrics: Vec<Metric> = vec![
         ("frame time (fps)", |m| {
             format!("{:.2} ms ({:.0} fps)", m.frame_ms, m.fps)
         }),
@@ -393,6 +407,18 @@ pub fn markdown(report: &BenchReport) -> String {
         }),
         ("colour mismatch", |m| percent(m.accuracy.color_mismatch)),
     ];
+    let baseline = report.modes.iter().any(|m| m.mono_frame_ms.is_some());
+    if baseline {
+        metrics.insert(
+            1,
+            ("stereo / mono", |m| {
+                match (m.stereo_over_mono(), m.mono_frame_ms) {
+                    (Some(r), Some(mono)) => format!("{r:.2} (mono {mono:.2} ms)"),
+                    _ => "–".into(),
+                }
+            }),
+        );
+    }
     for &imposter in &TABLE_IMPOSTERS {
         if !proxies.iter().any(|&p| cell(report, p, imposter).is_some()) {
             continue;
@@ -407,6 +433,12 @@ pub fn markdown(report: &BenchReport) -> String {
             }
             out.push('\n');
         }
+    }
+    if baseline {
+        out.push_str(
+            "\nStereo / mono: median stereo frame over the median of the mono frames of the same \
+             camera and mode, each timed right after a stereo frame.",
+        );
     }
     out.push_str(
         "\nSustained fps: timed frames per wall-clock second, each drawn and read back to host \
@@ -433,6 +465,7 @@ pub(crate) mod tests {
                 frame_ms_max: 3.0 + k as f64,
                 fps: 1000.0 / (2.0 + k as f64),
                 sustained_fps: 400.0 / (2.0 + k as f64),
+                mono_frame_ms: None,
                 timing: TimingKind::WallClock,
                 accuracy: Accuracy {
                     coverage_mismatch: 0.05 / (k as f64 + 1.0).powi(2),

@@ -75,7 +75,8 @@ pub fn run_bench(
 
 /// Benchmarks `scene` on `rasterizer`: one timed ray-traced reference render, then for each
 /// mode of `config` the warm-up frames and the timed frames (scene uploaded once), the median
-/// frame time, and the accuracy of the first timed frame against the reference.
+/// frame time, and the accuracy of the first timed frame against the reference. A stereo
+/// frame is followed by a mono one when `config.mono_baseline` is set.
 ///
 /// `progress` advances once for the reference and once per rasterizer frame.
 pub fn run_bench_with(
@@ -92,7 +93,16 @@ pub fn run_bench_with(
         ));
     }
     let settings = bench_settings(base, config);
-    let frames_per_mode = config.warmup_frames + config.timed_frames;
+    // The stereo / mono ratio is measured in one run: each stereo frame is followed by a
+    // mono frame of the same camera and mode.
+    let mono = (config.mono_baseline && !matches!(settings.stereo, Stereo::Mono)).then(|| {
+        let mut m = settings;
+        m.stereo = Stereo::Mono;
+        m.depth_map = None;
+        m
+    });
+    let renders_per_frame = if mono.is_some() { 2 } else { 1 };
+    let frames_per_mode = (config.warmup_frames + config.timed_frames) * renders_per_frame;
     progress.set_length(1 + (config.modes.len() * frames_per_mode) as u64);
     progress.set_position(0);
     progress.set_message(format!("{name}: ray-traced reference"));
@@ -107,30 +117,53 @@ pub fn run_bench_with(
     progress.inc(1);
 
     let uploaded = rasterizer.upload(scene, &settings)?;
+    // Alternating shapes would otherwise allocate (and page in) fresh images every frame.
+    let kept_shapes = rasterizer.keep_frame_shapes(renders_per_frame);
     let mut modes = Vec::with_capacity(config.modes.len());
     for &mode in &config.modes {
         progress.set_message(format!("{name}: {}", mode.label()));
         let mut s = settings;
         s.proxy = mode.proxy;
         s.imposter = mode.imposter;
+        let mono = mono.map(|mut m| {
+            m.proxy = mode.proxy;
+            m.imposter = mode.imposter;
+            m
+        });
         for _ in 0..config.warmup_frames {
             rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
             progress.inc(1);
+            if let Some(m) = &mono {
+                rasterizer.render_uploaded(&uploaded, m, &hidden)?;
+                progress.inc(1);
+            }
         }
         let mut times = Vec::with_capacity(config.timed_frames);
+        let mut mono_times = Vec::with_capacity(config.timed_frames);
         let mut first = None;
         let mut kind = TimingKind::GpuTimestamps;
-        let run = Instant::now();
+        // Wall clock of the timed frames themselves (each drawn and read back), not of the
+        // mono frames between them.
+        let mut run_seconds = 0.0;
         for _ in 0..config.timed_frames {
+            let frame_start = Instant::now();
             let (rendered, stats, timing) = rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+            run_seconds += frame_start.elapsed().as_secs_f64();
             times.push(timing.seconds * 1e3);
             if timing_kind(&timing) == TimingKind::WallClock {
                 kind = TimingKind::WallClock;
             }
             first.get_or_insert((rendered, stats));
             progress.inc(1);
+            if let Some(m) = &mono {
+                let (_, _, timing) = rasterizer.render_uploaded(&uploaded, m, &hidden)?;
+                mono_times.push(timing.seconds * 1e3);
+                if timing_kind(&timing) == TimingKind::WallClock {
+                    kind = TimingKind::WallClock;
+                }
+                progress.inc(1);
+            }
         }
-        let run_seconds = run.elapsed().as_secs_f64();
         let (rendered, stats) = first.expect("timed_frames > 0");
         let frame_ms = median(times.clone());
         modes.push(ModeResult {
@@ -140,6 +173,7 @@ pub fn run_bench_with(
             frame_ms_max: times.iter().copied().fold(0.0, f64::max),
             fps: if frame_ms > 0.0 { 1e3 / frame_ms } else { 0.0 },
             sustained_fps: config.timed_frames as f64 / run_seconds.max(1e-9),
+            mono_frame_ms: mono.is_some().then(|| median(mono_times)),
             timing: kind,
             accuracy: measure(&reference, &rendered)?,
             stats: ModeStats {
@@ -153,6 +187,7 @@ pub fn run_bench_with(
             },
         });
     }
+    rasterizer.keep_frame_shapes(kept_shapes);
     Ok(BenchReport {
         scene: name.to_string(),
         points: scene.len(),

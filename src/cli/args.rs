@@ -439,6 +439,10 @@ pub struct BenchArgs {
     /// Output folder for bench.json, bench.csv, bench.md and the charts.
     #[arg(long, default_value = "bench_out")]
     pub out: PathBuf,
+    /// With a stereo setting, do not time a mono frame after each stereo frame (the report's
+    /// "stereo / mono" row): halves the run.
+    #[arg(long)]
+    pub no_mono_baseline: bool,
     /// Compare stereo methods instead of timing rasterizer modes: exact ODS, the paper's
     /// per-vertex offset, parallel cameras and cube maps, ray traced; charts their angular
     /// disparity error against exact ODS by longitude and latitude.

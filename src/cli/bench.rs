@@ -23,6 +23,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         modes: args.modes.clone().unwrap_or_else(bench::BenchMode::all),
         warmup_frames: args.warmup,
         timed_frames: args.frames as usize,
+        mono_baseline: !args.no_mono_baseline,
     };
     let pb = progress::bar(args.quiet, 0, "benchmark");
     let written = if let Some(dir) = &args.suite {

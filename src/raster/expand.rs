@@ -188,11 +188,10 @@ impl ExpandPipeline {
         bindings: &ExpandBindings,
         trig: &wgpu::BindGroup,
         (count, listed_groups): (u32, Option<&wgpu::Buffer>),
-        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("expand"),
-            timestamp_writes,
+            timestamp_writes: None,
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bindings.main, &[]);

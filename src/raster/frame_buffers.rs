@@ -204,13 +204,26 @@ impl Images {
     }
 }
 
-/// The buffers of the last finished frame, kept for the next frame of the same shape once a
+/// The buffers of the last finished frames, kept for the next frame of the same shape once a
 /// rasterizer has begun a second frame (a single render frees its buffers as it reads back,
-/// which keeps its peak memory at one eye's read-back).
-#[derive(Default)]
+/// which keeps its peak memory at one eye's read-back). One shape is kept unless a caller
+/// that alternates shapes (a benchmark timing stereo against mono) asks for more.
 pub struct Spare {
     frames_begun: u64,
-    kept: Option<FrameBuffers>,
+    /// Most recently finished last.
+    kept: Vec<FrameBuffers>,
+    /// Most shapes kept at once.
+    shapes: usize,
+}
+
+impl Default for Spare {
+    fn default() -> Self {
+        Spare {
+            frames_begun: 0,
+            kept: Vec::new(),
+            shapes: 1,
+        }
+    }
 }
 
 impl Spare {
@@ -224,11 +237,18 @@ impl Spare {
         let (kept, keep) = {
             let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
             s.frames_begun += 1;
-            // A kept set of another shape is freed before the new one is allocated.
-            (
-                s.kept.take().filter(|b| b.shape == shape),
-                s.frames_begun > 1,
-            )
+            let found = s.kept.iter().position(|b| b.shape == shape);
+            let kept = match found {
+                Some(i) => Some(s.kept.remove(i)),
+                None => {
+                    // Sets of other shapes beyond the allowance are freed (oldest first)
+                    // before the new one is allocated.
+                    let excess = (s.kept.len() + 1).saturating_sub(s.shapes);
+                    s.kept.drain(..excess);
+                    None
+                }
+            };
+            (kept, s.frames_begun > 1)
         };
         let buffers = match kept {
             Some(b) => b,
@@ -237,8 +257,23 @@ impl Spare {
         Ok((buffers, keep))
     }
 
-    /// Keeps `buffers` for the next frame.
+    /// Keeps `buffers` for the next frame of their shape, freeing the oldest kept set beyond
+    /// the allowance.
     pub fn put(spare: &Mutex<Spare>, buffers: FrameBuffers) {
-        spare.lock().unwrap_or_else(|e| e.into_inner()).kept = Some(buffers);
+        let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
+        s.kept.push(buffers);
+        let excess = s.kept.len().saturating_sub(s.shapes);
+        s.kept.drain(..excess);
+    }
+
+    /// Keeps the buffers of up to `shapes` frame shapes (at least one); returns the previous
+    /// allowance.
+    pub fn set_shapes(spare: &Mutex<Spare>, shapes: usize) -> usize {
+        let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
+        let previous = s.shapes;
+        s.shapes = shapes.max(1);
+        let excess = s.kept.len().saturating_sub(s.shapes);
+        s.kept.drain(..excess);
+        previous
     }
 }

@@ -85,9 +85,11 @@ impl Rasterizer {
         let img = settings.image;
         let shape = FrameShape::new((img.width, img.height), views.len(), &sizing);
         let (buffers, keep) = Spare::take(&self.spare, ctx, shape)?;
-        let clock = FrameClock::new(ctx);
+        let mut clock = FrameClock::new(ctx);
 
         let mut encoder = device.create_command_encoder(&Default::default());
+        // The clears are the frame's first GPU work and are timed with it.
+        clock.start(&mut encoder);
         encoder.clear_buffer(&buffers.stats, 0, None);
         buffers.images.clear(&mut encoder);
         ctx.queue.submit([encoder.finish()]);
@@ -219,7 +221,6 @@ impl<'r> RasterFrame<'r> {
                 })
                 .collect::<Vec<_>>()
         })?;
-        self.clock.start();
         let vertex_capacity = self.sizing.vertex_capacity;
         let img = self.settings.image;
         for (eye, (view, (expand_bg, draw_bg, resolve_bg))) in
@@ -256,15 +257,9 @@ impl<'r> RasterFrame<'r> {
                 {
                     resolve.dispatch(&mut encoder, bg, &self.trig, (img.width, img.height));
                 }
-                let writes = self.clock.first_pass_writes(self.batches == 0);
                 let listed_groups = self.buffers.listed.as_ref().map(|(_, groups)| groups);
-                r.expand.dispatch(
-                    &mut encoder,
-                    expand_bg,
-                    &self.trig,
-                    (count, listed_groups),
-                    writes,
-                );
+                r.expand
+                    .dispatch(&mut encoder, expand_bg, &self.trig, (count, listed_groups));
                 {
                     let mut pass = images.begin_draw(eye, &mut encoder);
                     r.imposter.draw(

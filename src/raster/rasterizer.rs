@@ -158,6 +158,13 @@ impl Rasterizer {
         self.knobs.splat_limit = pixels;
     }
 
+    /// Keeps the GPU buffers of up to `shapes` frame shapes (image size, eye count) between
+    /// frames instead of one, so that frames alternating between shapes do not allocate
+    /// afresh; returns the previous allowance. Each kept shape holds its images' memory.
+    pub fn keep_frame_shapes(&self, shapes: usize) -> usize {
+        Spare::set_shapes(&self.spare, shapes)
+    }
+
     /// True when this device can run the compute splat (public for tests, which check the
     /// splat against drawing).
     pub fn can_splat(&self) -> bool {
@@ -172,6 +179,11 @@ impl Rasterizer {
     /// The adapter's name and backend.
     pub fn adapter_name(&self) -> &str {
         &self.ctx.adapter_name
+    }
+
+    /// True on a software adapter (the CPU runs the shaders: lavapipe, llvmpipe).
+    pub fn is_software(&self) -> bool {
+        self.ctx.adapter_info.device_type == wgpu::DeviceType::Cpu
     }
 
     /// Widest equirectangular image (pixels per eye) the adapter's textures allow.

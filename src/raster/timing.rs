@@ -19,14 +19,17 @@ pub enum TimingSource {
 /// A frame time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameTiming {
-    /// Seconds spent expanding and drawing (excluding read-back).
+    /// Seconds from the frame's clears to the end of its last draw (read-back excluded).
     pub seconds: f64,
     /// How it was measured.
     pub source: TimingSource,
+    /// Wall clock from the frame's first submission to the end of its GPU work, whatever
+    /// `source` is: on a software adapter, where the GPU is the CPU, the two agree.
+    pub wall_seconds: f64,
 }
 
-/// Times one frame: a timestamp at the start of its first expand pass and one after its last
-/// draw, and the wall clock from its first submission.
+/// Times one frame: a timestamp before its clears and one after its last draw, and the wall
+/// clock from its first submission.
 pub(crate) struct FrameClock {
     query: Option<wgpu::QuerySet>,
     started: Option<Instant>,
@@ -48,21 +51,20 @@ impl FrameClock {
         }
     }
 
-    /// Starts the wall clock (once: later calls keep the first start).
-    pub fn start(&mut self) {
-        self.started.get_or_insert_with(Instant::now);
-    }
-
-    /// Timestamp writes for the frame's first compute pass; `None` for any later pass.
-    pub fn first_pass_writes(&self, first: bool) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.query
-            .as_ref()
-            .filter(|_| first)
-            .map(|q| wgpu::ComputePassTimestampWrites {
-                query_set: q,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: None,
-            })
+    /// Records the frame's start stamp (an empty compute pass, ahead of the frame's clears)
+    /// into `encoder`, and starts the wall clock: call just before submitting it.
+    pub fn start(&mut self, encoder: &mut wgpu::CommandEncoder) {
+        if let Some(q) = &self.query {
+            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("frame start"),
+                timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+                    query_set: q,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: None,
+                }),
+            }));
+        }
+        self.started = Some(Instant::now());
     }
 
     /// Stamps the end of the frame (after `batches` batches), waits for the GPU, and reads the
@@ -92,10 +94,12 @@ impl FrameClock {
             Some(seconds) => FrameTiming {
                 seconds,
                 source: TimingSource::GpuTimestamps,
+                wall_seconds: wall,
             },
             None => FrameTiming {
                 seconds: wall,
                 source: TimingSource::WallClock,
+                wall_seconds: wall,
             },
         })
     }
