@@ -2,7 +2,8 @@
 # The GPU benchmark, in one short run: Autzen (spheres 0.8 m across) and 5 M generated points,
 # ODS and mono at 3840×1920 per eye, every rasterizer mode on Autzen and the exact and the
 # paper's fastest mode on 5 M points, each with the median frame and the sustained frame rate
-# over many frames. Results (bench.md/csv/json and charts per run, plus summary.md naming the
+# over many frames; the ODS runs also time a mono frame after each pair (the stereo / mono
+# column). Results (bench.md/csv/json and charts per run, plus summary.md naming the
 # adapter) go to OUT, which docs/BENCHMARKS.md quotes.
 #
 #   tools/gpu_bench.sh [OUT]            (default OUT: docs/bench/gpu)
@@ -43,8 +44,8 @@ run big_mono    "$big"               none $fast
   command -v nvidia-smi >/dev/null && echo "- GPU: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader | head -1)"
   echo "- CPU: $(nproc) cores; $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
   echo
-  echo "| run | mode | median frame ms | fps (median) | sustained fps | coverage mismatch |"
-  echo "|---|---|---:|---:|---:|---:|"
+  echo "| run | mode | median frame ms | fps (median) | sustained fps | stereo / mono | coverage mismatch |"
+  echo "|---|---|---:|---:|---:|---:|---:|"
   for name in autzen_ods autzen_mono big_ods big_mono; do
     python3 - "$out/$name/bench.json" "$name" <<'PY'
 import json, sys
@@ -53,7 +54,9 @@ print(f"<!-- {sys.argv[2]}: {r['points']} points, {r['width']}x{r['height']} {r[
 for m in r["modes"]:
     mode = m["mode"]
     label = mode if isinstance(mode, str) else "+".join(str(v) for v in mode.values())
-    print(f"| {sys.argv[2]} | {label} | {m['frame_ms']:.3f} | {m['fps']:.1f} | {m['sustained_fps']:.1f} | {m['accuracy']['coverage_mismatch']:.2e} |")
+    mono = m.get("mono_frame_ms")
+    ratio = f"{m['frame_ms'] / mono:.2f}" if mono else "–"
+    print(f"| {sys.argv[2]} | {label} | {m['frame_ms']:.3f} | {m['fps']:.1f} | {m['sustained_fps']:.1f} | {ratio} | {m['accuracy']['coverage_mismatch']:.2e} |")
 PY
   done
 } > "$out/summary.md"
