@@ -1,6 +1,8 @@
 //! A frame's time covers all of its GPU work: every eye, and the clears before them. On a
 //! software adapter the GPU is the CPU, so the timestamps' span must agree with the wall
 //! clock around the same work; a stamp taken inside the frame leaves out what ran before it.
+//! Frames alternating between two shapes, as `bench` times stereo against mono, reuse their
+//! buffers when the rasterizer keeps two shapes.
 
 mod raster_common;
 
@@ -51,4 +53,39 @@ fn frame_time_spans_every_eye_and_the_clears() {
             }
         }
     }
+}
+
+#[test]
+fn frames_alternating_two_shapes_reuse_their_buffers_when_asked() {
+    let Some(raster) = raster_common::rasterizer() else {
+        return;
+    };
+    let scene = raster_common::autzen_at_centre();
+    let mut mono = RenderSettings::new(256, Camera::new(glam::DVec3::ZERO, 0.0));
+    mono.proxy = Proxy::Bounds;
+    mono.imposter = Imposter::Raycast;
+    let mut ods = mono;
+    ods.stereo = Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    };
+    let uploaded = raster.upload(&scene, &mono).unwrap();
+    let hidden = ProgressBar::hidden();
+    let alternate = |frames: usize| {
+        let before = raster.frame_buffers_allocated();
+        for k in 0..frames {
+            let s = if k % 2 == 0 { &ods } else { &mono };
+            raster.render_uploaded(&uploaded, s, &hidden).unwrap();
+        }
+        raster.frame_buffers_allocated() - before
+    };
+    // One shape kept (the default): every frame allocates.
+    assert_eq!(alternate(6), 6);
+    // Two kept: the shape that was not kept once more, then none.
+    assert_eq!(raster.keep_frame_shapes(2), 1);
+    assert_eq!(alternate(6), 1);
+    assert_eq!(alternate(6), 0);
+    assert_eq!(raster.keep_frame_shapes(1), 2);
+    assert_eq!(alternate(2), 2);
 }

@@ -210,6 +210,8 @@ impl Images {
 /// that alternates shapes (a benchmark timing stereo against mono) asks for more.
 pub struct Spare {
     frames_begun: u64,
+    /// Buffer sets allocated so far.
+    allocated: u64,
     /// Most recently finished last.
     kept: Vec<FrameBuffers>,
     /// Most shapes kept at once.
@@ -220,6 +222,7 @@ impl Default for Spare {
     fn default() -> Self {
         Spare {
             frames_begun: 0,
+            allocated: 0,
             kept: Vec::new(),
             shapes: 1,
         }
@@ -241,6 +244,7 @@ impl Spare {
             let kept = match found {
                 Some(i) => Some(s.kept.remove(i)),
                 None => {
+                    s.allocated += 1;
                     // Sets of other shapes beyond the allowance are freed (oldest first)
                     // before the new one is allocated.
                     let excess = (s.kept.len() + 1).saturating_sub(s.shapes);
@@ -264,6 +268,11 @@ impl Spare {
         s.kept.push(buffers);
         let excess = s.kept.len().saturating_sub(s.shapes);
         s.kept.drain(..excess);
+    }
+
+    /// Buffer sets allocated so far.
+    pub fn allocated(spare: &Mutex<Spare>) -> u64 {
+        spare.lock().unwrap_or_else(|e| e.into_inner()).allocated
     }
 
     /// Keeps the buffers of up to `shapes` frame shapes (at least one); returns the previous

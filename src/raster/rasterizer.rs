@@ -165,6 +165,12 @@ impl Rasterizer {
         Spare::set_shapes(&self.spare, shapes)
     }
 
+    /// How many sets of frame buffers this rasterizer has allocated (public for tests, which
+    /// check that frames reuse them).
+    pub fn frame_buffers_allocated(&self) -> u64 {
+        Spare::allocated(&self.spare)
+    }
+
     /// True when this device can run the compute splat (public for tests, which check the
     /// splat against drawing).
     pub fn can_splat(&self) -> bool {
