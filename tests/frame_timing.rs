@@ -6,28 +6,45 @@
 
 mod raster_common;
 
+use std::sync::Mutex;
+
 use indicatif::ProgressBar;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::TimingSource;
 use omnicloud::render::{Imposter, Proxy, RenderSettings};
 
+/// The tests of this file run one at a time: a frame timed while another test draws would
+/// wait for the CPU between its submissions.
+static ONE_AT_A_TIME: Mutex<()> = Mutex::new(());
+
+/// The exact mode, mono, `width` wide, camera at the scene's zero.
+fn exact(width: u32) -> RenderSettings {
+    let mut s = RenderSettings::new(width, Camera::new(glam::DVec3::ZERO, 0.0));
+    s.proxy = Proxy::Bounds;
+    s.imposter = Imposter::Raycast;
+    s
+}
+
+/// ODS with the default IPD and pole merging.
+fn ods() -> Stereo {
+    Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    }
+}
+
 #[test]
 fn frame_time_spans_every_eye_and_the_clears() {
+    let _serial = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let Some(raster) = raster_common::rasterizer() else {
         return;
     };
     let scene = raster_common::autzen_at_centre();
-    let mut settings = RenderSettings::new(2048, Camera::new(glam::DVec3::ZERO, 0.0));
-    settings.proxy = Proxy::Bounds;
-    settings.imposter = Imposter::Raycast;
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
+    let mut settings = exact(2048);
     let uploaded = raster.upload(&scene, &settings).unwrap();
     let hidden = ProgressBar::hidden();
-    for stereo in [ods, Stereo::Mono] {
+    for stereo in [ods(), Stereo::Mono] {
         settings.stereo = stereo;
         // The first two frames allocate their buffers; later ones reuse them.
         for _ in 0..2 {
@@ -48,7 +65,8 @@ fn frame_time_spans_every_eye_and_the_clears() {
             );
             assert!(t.seconds <= t.wall_seconds, "{t:?}");
             if t.source == TimingSource::GpuTimestamps && raster.is_software() {
-                // Measured (lavapipe, 2 cores): 0.93 to 0.99 of the wall clock.
+                // Measured (lavapipe, 2 cores): 0.95 to 0.99 of the wall clock, also with two
+                // busy processes beside it; the stamp on the first expand pass gave 0.70.
                 assert!(t.seconds >= 0.85 * t.wall_seconds, "{t:?}");
             }
         }
@@ -57,18 +75,15 @@ fn frame_time_spans_every_eye_and_the_clears() {
 
 #[test]
 fn frames_alternating_two_shapes_reuse_their_buffers_when_asked() {
+    let _serial = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let Some(raster) = raster_common::rasterizer() else {
         return;
     };
     let scene = raster_common::autzen_at_centre();
-    let mut mono = RenderSettings::new(256, Camera::new(glam::DVec3::ZERO, 0.0));
-    mono.proxy = Proxy::Bounds;
-    mono.imposter = Imposter::Raycast;
-    let mut ods = mono;
-    ods.stereo = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
+    let mono = exact(256);
+    let ods = RenderSettings {
+        stereo: ods(),
+        ..mono
     };
     let uploaded = raster.upload(&scene, &mono).unwrap();
     let hidden = ProgressBar::hidden();
