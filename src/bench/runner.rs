@@ -119,75 +119,82 @@ pub fn run_bench_with(
     let uploaded = rasterizer.upload(scene, &settings)?;
     // Alternating shapes would otherwise allocate (and page in) fresh images every frame.
     let kept_shapes = rasterizer.keep_frame_shapes(renders_per_frame);
-    let mut modes = Vec::with_capacity(config.modes.len());
-    for &mode in &config.modes {
-        progress.set_message(format!("{name}: {}", mode.label()));
-        let mut s = settings;
-        s.proxy = mode.proxy;
-        s.imposter = mode.imposter;
-        let mono = mono.map(|mut m| {
-            m.proxy = mode.proxy;
-            m.imposter = mode.imposter;
-            m
-        });
-        for _ in 0..config.warmup_frames {
-            rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
-            progress.inc(1);
-            if let Some(m) = &mono {
-                rasterizer.render_uploaded(&uploaded, m, &hidden)?;
+    // Timed in a closure so that the allowance is restored on error too.
+    let timed = || -> Result<Vec<ModeResult>, BenchError> {
+        let mut modes = Vec::with_capacity(config.modes.len());
+        for &mode in &config.modes {
+            progress.set_message(format!("{name}: {}", mode.label()));
+            let mut s = settings;
+            s.proxy = mode.proxy;
+            s.imposter = mode.imposter;
+            let mono = mono.map(|mut m| {
+                m.proxy = mode.proxy;
+                m.imposter = mode.imposter;
+                m
+            });
+            for _ in 0..config.warmup_frames {
+                rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
                 progress.inc(1);
+                if let Some(m) = &mono {
+                    rasterizer.render_uploaded(&uploaded, m, &hidden)?;
+                    progress.inc(1);
+                }
             }
-        }
-        let mut times = Vec::with_capacity(config.timed_frames);
-        let mut mono_times = Vec::with_capacity(config.timed_frames);
-        let mut first = None;
-        let mut kind = TimingKind::GpuTimestamps;
-        // Wall clock of the timed frames themselves (each drawn and read back), not of the
-        // mono frames between them.
-        let mut run_seconds = 0.0;
-        for _ in 0..config.timed_frames {
-            let frame_start = Instant::now();
-            let (rendered, stats, timing) = rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
-            run_seconds += frame_start.elapsed().as_secs_f64();
-            times.push(timing.seconds * 1e3);
-            if timing_kind(&timing) == TimingKind::WallClock {
-                kind = TimingKind::WallClock;
-            }
-            first.get_or_insert((rendered, stats));
-            progress.inc(1);
-            if let Some(m) = &mono {
-                let (_, _, timing) = rasterizer.render_uploaded(&uploaded, m, &hidden)?;
-                mono_times.push(timing.seconds * 1e3);
+            let mut times = Vec::with_capacity(config.timed_frames);
+            let mut mono_times = Vec::with_capacity(config.timed_frames);
+            let mut first = None;
+            let mut kind = TimingKind::GpuTimestamps;
+            // Wall clock of the timed frames themselves (each drawn and read back), not of the
+            // mono frames between them.
+            let mut run_seconds = 0.0;
+            for _ in 0..config.timed_frames {
+                let frame_start = Instant::now();
+                let (rendered, stats, timing) =
+                    rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+                run_seconds += frame_start.elapsed().as_secs_f64();
+                times.push(timing.seconds * 1e3);
                 if timing_kind(&timing) == TimingKind::WallClock {
                     kind = TimingKind::WallClock;
                 }
+                first.get_or_insert((rendered, stats));
                 progress.inc(1);
+                if let Some(m) = &mono {
+                    let (_, _, timing) = rasterizer.render_uploaded(&uploaded, m, &hidden)?;
+                    mono_times.push(timing.seconds * 1e3);
+                    if timing_kind(&timing) == TimingKind::WallClock {
+                        kind = TimingKind::WallClock;
+                    }
+                    progress.inc(1);
+                }
             }
+            let (rendered, stats) = first.expect("timed_frames > 0");
+            let frame_ms = median(times.clone());
+            modes.push(ModeResult {
+                mode,
+                frame_ms,
+                frame_ms_min: times.iter().copied().fold(f64::INFINITY, f64::min),
+                frame_ms_max: times.iter().copied().fold(0.0, f64::max),
+                fps: if frame_ms > 0.0 { 1e3 / frame_ms } else { 0.0 },
+                sustained_fps: config.timed_frames as f64 / run_seconds.max(1e-9),
+                mono_frame_ms: mono.is_some().then(|| median(mono_times)),
+                timing: kind,
+                accuracy: measure(&reference, &rendered)?,
+                stats: ModeStats {
+                    culled: stats.culled,
+                    drawn: stats.drawn,
+                    special: stats.special,
+                    seam_copies: stats.seam_copies,
+                    vertices: stats.vertices,
+                    splatted: stats.splatted,
+                    hidden: stats.occluded,
+                },
+            });
         }
-        let (rendered, stats) = first.expect("timed_frames > 0");
-        let frame_ms = median(times.clone());
-        modes.push(ModeResult {
-            mode,
-            frame_ms,
-            frame_ms_min: times.iter().copied().fold(f64::INFINITY, f64::min),
-            frame_ms_max: times.iter().copied().fold(0.0, f64::max),
-            fps: if frame_ms > 0.0 { 1e3 / frame_ms } else { 0.0 },
-            sustained_fps: config.timed_frames as f64 / run_seconds.max(1e-9),
-            mono_frame_ms: mono.is_some().then(|| median(mono_times)),
-            timing: kind,
-            accuracy: measure(&reference, &rendered)?,
-            stats: ModeStats {
-                culled: stats.culled,
-                drawn: stats.drawn,
-                special: stats.special,
-                seam_copies: stats.seam_copies,
-                vertices: stats.vertices,
-                splatted: stats.splatted,
-                hidden: stats.occluded,
-            },
-        });
-    }
+        Ok(modes)
+    };
+    let modes = timed();
     rasterizer.keep_frame_shapes(kept_shapes);
+    let modes = modes?;
     Ok(BenchReport {
         scene: name.to_string(),
         points: scene.len(),

@@ -19,7 +19,8 @@ pub enum TimingSource {
 /// A frame time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameTiming {
-    /// Seconds from the frame's clears to the end of its last draw (read-back excluded).
+    /// Seconds from the frame's clears to the end of its last draw (read-back excluded; for
+    /// a streamed frame, the waits for its chunks included).
     pub seconds: f64,
     /// How it was measured.
     pub source: TimingSource,
