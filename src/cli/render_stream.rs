@@ -125,8 +125,8 @@ pub(super) fn rasterize(
     match rasterizer.pipeline_cache() {
         CacheStatus::Ignored { .. } => say(format!("warning: {}", rasterizer.pipeline_cache())),
         status => say(format!(
-            "GPU set up in {setup:.2?} alongside the plan, then {:.2?} for the frame: {} \
-             ({status})",
+            "GPU set up in {setup:.2?} alongside the plan; then {:.2?} waiting for it and \
+             allocating the frame: {} ({status})",
             waited.elapsed(),
             rasterizer.adapter_name()
         )),
