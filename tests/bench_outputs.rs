@@ -1,24 +1,30 @@
 //! `bench` on a small scene: every mode measured, all four outputs written, and the chart is
-//! a real image with one marker per mode.
+//! a real image with one marker per mode; a stereo bench times mono frames beside its pairs.
 
 mod raster_common;
 
+use omnicloud::Scene;
 use omnicloud::bench::{
     BenchConfig, BenchMode, BenchReport, chart::CHART_SIZE, run_bench_with, write_outputs,
 };
 use omnicloud::projection::{OdsOffset, PoleMerge, PoleMerging, Stereo};
-use omnicloud::render::{Imposter, Proxy};
-use omnicloud::suite::scenes;
+use omnicloud::render::{Imposter, Proxy, RenderSettings};
+use omnicloud::suite::scenes::{self, SuiteScene};
+
+/// A suite scene and the settings its manifest entry gives it.
+fn scene_and_settings(suite_scene: SuiteScene) -> (Scene, RenderSettings) {
+    let entry = omnicloud::suite::manifest_of(std::slice::from_ref(&suite_scene)).scenes[0].clone();
+    let scene = suite_scene.to_scene();
+    let base = entry.settings(scene.origin).unwrap();
+    (scene, base)
+}
 
 #[test]
 fn bench_writes_json_csv_markdown_and_a_chart_with_one_marker_per_mode() {
     let Some(raster) = raster_common::rasterizer() else {
         return;
     };
-    let suite_scene = scenes::seam();
-    let entry = omnicloud::suite::manifest_of(std::slice::from_ref(&suite_scene)).scenes[0].clone();
-    let scene = suite_scene.to_scene();
-    let base = entry.settings(scene.origin).unwrap();
+    let (scene, base) = scene_and_settings(scenes::seam());
     let config = BenchConfig {
         width: Some(128),
         ..BenchConfig::quick()
@@ -126,10 +132,7 @@ fn a_stereo_bench_times_mono_frames_beside_its_pairs() {
     let Some(raster) = raster_common::rasterizer() else {
         return;
     };
-    let suite_scene = scenes::poles();
-    let entry = omnicloud::suite::manifest_of(std::slice::from_ref(&suite_scene)).scenes[0].clone();
-    let scene = suite_scene.to_scene();
-    let base = entry.settings(scene.origin).unwrap();
+    let (scene, base) = scene_and_settings(scenes::poles());
     let exact = BenchMode {
         proxy: Proxy::Bounds,
         imposter: Imposter::Raycast,

@@ -124,47 +124,46 @@ pub fn run_bench_with(
         let mut modes = Vec::with_capacity(config.modes.len());
         for &mode in &config.modes {
             progress.set_message(format!("{name}: {}", mode.label()));
-            let mut s = settings;
-            s.proxy = mode.proxy;
-            s.imposter = mode.imposter;
-            let mono = mono.map(|mut m| {
-                m.proxy = mode.proxy;
-                m.imposter = mode.imposter;
-                m
-            });
-            for _ in 0..config.warmup_frames {
-                rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+            let in_mode = |mut r: RenderSettings| {
+                r.proxy = mode.proxy;
+                r.imposter = mode.imposter;
+                r
+            };
+            let s = in_mode(settings);
+            let mono = mono.map(in_mode);
+            // One frame under `r`, drawn, read back and counted.
+            let frame = |r: &RenderSettings| {
+                let drawn = rasterizer.render_uploaded(&uploaded, r, &hidden);
                 progress.inc(1);
+                drawn
+            };
+            for _ in 0..config.warmup_frames {
+                frame(&s)?;
                 if let Some(m) = &mono {
-                    rasterizer.render_uploaded(&uploaded, m, &hidden)?;
-                    progress.inc(1);
+                    frame(m)?;
                 }
             }
             let mut times = Vec::with_capacity(config.timed_frames);
             let mut mono_times = Vec::with_capacity(config.timed_frames);
             let mut first = None;
             let mut kind = TimingKind::GpuTimestamps;
+            let mut record = |timing: &FrameTiming, times: &mut Vec<f64>| {
+                times.push(timing.seconds * 1e3);
+                if timing_kind(timing) == TimingKind::WallClock {
+                    kind = TimingKind::WallClock;
+                }
+            };
             // Wall clock of the timed frames themselves (each drawn and read back), not of the
             // mono frames between them.
             let mut run_seconds = 0.0;
             for _ in 0..config.timed_frames {
                 let frame_start = Instant::now();
-                let (rendered, stats, timing) =
-                    rasterizer.render_uploaded(&uploaded, &s, &hidden)?;
+                let (rendered, stats, timing) = frame(&s)?;
                 run_seconds += frame_start.elapsed().as_secs_f64();
-                times.push(timing.seconds * 1e3);
-                if timing_kind(&timing) == TimingKind::WallClock {
-                    kind = TimingKind::WallClock;
-                }
+                record(&timing, &mut times);
                 first.get_or_insert((rendered, stats));
-                progress.inc(1);
                 if let Some(m) = &mono {
-                    let (_, _, timing) = rasterizer.render_uploaded(&uploaded, m, &hidden)?;
-                    mono_times.push(timing.seconds * 1e3);
-                    if timing_kind(&timing) == TimingKind::WallClock {
-                        kind = TimingKind::WallClock;
-                    }
-                    progress.inc(1);
+                    record(&frame(m)?.2, &mut mono_times);
                 }
             }
             let (rendered, stats) = first.expect("timed_frames > 0");

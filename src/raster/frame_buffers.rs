@@ -12,6 +12,7 @@ use super::error::RasterError;
 use super::expand::ExpandedVertex;
 use super::key_targets::{KeyedAttachment, KeyedTargets};
 use super::params::Params;
+use super::rasterizer::lock;
 use super::sizing::FrameSizing;
 use super::splat;
 use super::stats::EyeStats;
@@ -238,17 +239,17 @@ impl Spare {
         shape: FrameShape,
     ) -> Result<(FrameBuffers, bool), RasterError> {
         let (kept, keep) = {
-            let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
+            let mut s = lock(spare);
             s.frames_begun += 1;
             let found = s.kept.iter().position(|b| b.shape == shape);
             let kept = match found {
                 Some(i) => Some(s.kept.remove(i)),
                 None => {
                     s.allocated += 1;
-                    // Sets of other shapes beyond the allowance are freed (oldest first)
-                    // before the new one is allocated.
-                    let excess = (s.kept.len() + 1).saturating_sub(s.shapes);
-                    s.kept.drain(..excess);
+                    // Sets of other shapes beyond the allowance are freed before the new one
+                    // is allocated.
+                    let room = s.shapes - 1;
+                    s.keep_at_most(room);
                     None
                 }
             };
@@ -264,25 +265,31 @@ impl Spare {
     /// Keeps `buffers` for the next frame of their shape, freeing the oldest kept set beyond
     /// the allowance.
     pub fn put(spare: &Mutex<Spare>, buffers: FrameBuffers) {
-        let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
+        let mut s = lock(spare);
         s.kept.push(buffers);
-        let excess = s.kept.len().saturating_sub(s.shapes);
-        s.kept.drain(..excess);
+        let shapes = s.shapes;
+        s.keep_at_most(shapes);
     }
 
     /// Buffer sets allocated so far.
     pub fn allocated(spare: &Mutex<Spare>) -> u64 {
-        spare.lock().unwrap_or_else(|e| e.into_inner()).allocated
+        lock(spare).allocated
     }
 
     /// Keeps the buffers of up to `shapes` frame shapes (at least one); returns the previous
     /// allowance.
     pub fn set_shapes(spare: &Mutex<Spare>, shapes: usize) -> usize {
-        let mut s = spare.lock().unwrap_or_else(|e| e.into_inner());
+        let mut s = lock(spare);
         let previous = s.shapes;
-        s.shapes = shapes.max(1);
-        let excess = s.kept.len().saturating_sub(s.shapes);
-        s.kept.drain(..excess);
+        let shapes = shapes.max(1);
+        s.shapes = shapes;
+        s.keep_at_most(shapes);
         previous
+    }
+
+    /// Frees the oldest kept sets beyond the `n` most recent.
+    fn keep_at_most(&mut self, n: usize) {
+        let excess = self.kept.len().saturating_sub(n);
+        self.kept.drain(..excess);
     }
 }

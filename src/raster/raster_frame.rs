@@ -85,11 +85,10 @@ impl Rasterizer {
         let img = settings.image;
         let shape = FrameShape::new((img.width, img.height), views.len(), &sizing);
         let (buffers, keep) = Spare::take(&self.spare, ctx, shape)?;
-        let mut clock = FrameClock::new(ctx);
 
         let mut encoder = device.create_command_encoder(&Default::default());
         // The clears are the frame's first GPU work and are timed with it.
-        clock.start(&mut encoder);
+        let clock = FrameClock::start(ctx, &mut encoder);
         encoder.clear_buffer(&buffers.stats, 0, None);
         buffers.images.clear(&mut encoder);
         ctx.queue.submit([encoder.finish()]);

@@ -55,8 +55,9 @@ pub struct Rasterizer {
     pipeline_cache: CacheStatus,
 }
 
-/// `m` locked; a panic elsewhere while it was held leaves nothing half-written here.
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+/// `m` locked; a panic elsewhere while it was held leaves nothing half-written in the
+/// rasterizer's maps or its kept buffers.
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|e| e.into_inner())
 }
 

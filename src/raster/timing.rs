@@ -33,12 +33,26 @@ pub struct FrameTiming {
 /// clock from its first submission.
 pub(crate) struct FrameClock {
     query: Option<wgpu::QuerySet>,
-    started: Option<Instant>,
+    started: Instant,
+}
+
+/// Records an empty compute pass that only writes `writes`.
+fn stamp(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    writes: wgpu::ComputePassTimestampWrites<'_>,
+) {
+    drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: Some(writes),
+    }));
 }
 
 impl FrameClock {
-    /// A clock with a timestamp query set when the device has timestamps.
-    pub fn new(ctx: &GpuContext) -> Self {
+    /// Starts the clock of a frame: records its start stamp (when the device has timestamps)
+    /// into `encoder`, ahead of the frame's clears, and starts the wall clock. Call just
+    /// before submitting `encoder`.
+    pub fn start(ctx: &GpuContext, encoder: &mut wgpu::CommandEncoder) -> Self {
         let query = ctx.timestamps.then(|| {
             ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("frame time"),
@@ -46,26 +60,21 @@ impl FrameClock {
                 count: 2,
             })
         });
-        FrameClock {
-            query,
-            started: None,
-        }
-    }
-
-    /// Records the frame's start stamp (an empty compute pass, ahead of the frame's clears)
-    /// into `encoder`, and starts the wall clock: call just before submitting it.
-    pub fn start(&mut self, encoder: &mut wgpu::CommandEncoder) {
-        if let Some(q) = &self.query {
-            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("frame start"),
-                timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+        if let Some(q) = &query {
+            stamp(
+                encoder,
+                "frame start",
+                wgpu::ComputePassTimestampWrites {
                     query_set: q,
                     beginning_of_pass_write_index: Some(0),
                     end_of_pass_write_index: None,
-                }),
-            }));
+                },
+            );
         }
-        self.started = Some(Instant::now());
+        FrameClock {
+            query,
+            started: Instant::now(),
+        }
     }
 
     /// Stamps the end of the frame (after `batches` batches), waits for the GPU, and reads the
@@ -75,18 +84,19 @@ impl FrameClock {
         if let Some(q) = query {
             // An empty pass after the last draw stamps the end of the frame.
             let mut encoder = ctx.device.create_command_encoder(&Default::default());
-            drop(encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("frame end"),
-                timestamp_writes: Some(wgpu::ComputePassTimestampWrites {
+            stamp(
+                &mut encoder,
+                "frame end",
+                wgpu::ComputePassTimestampWrites {
                     query_set: q,
                     beginning_of_pass_write_index: None,
                     end_of_pass_write_index: Some(1),
-                }),
-            }));
+                },
+            );
             ctx.queue.submit([encoder.finish()]);
         }
         ctx.wait("drawing imposters")?;
-        let wall = self.started.map_or(0.0, |s| s.elapsed().as_secs_f64());
+        let wall = self.started.elapsed().as_secs_f64();
         let gpu = match query {
             Some(q) => read_timestamps(ctx, q)?,
             None => None,
