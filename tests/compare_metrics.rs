@@ -168,7 +168,7 @@ fn difference_in_top_rows_shows_only_in_the_top_band() {
     for band in &bands[1..] {
         assert_eq!(band.mismatch, 0, "band {}", band.region);
     }
-    assert_eq!(r.eyes[0].seam.mismatch, 0);
+    assert_eq!(r.eyes[0].seam.as_ref().unwrap().mismatch, 0);
 }
 
 #[test]
@@ -185,8 +185,8 @@ fn difference_at_the_edge_columns_shows_in_the_seam() {
     });
     let r = compare(&a, &b).unwrap();
     assert_eq!(r.eyes[0].seam_columns_each_side, 4);
-    assert_eq!(r.eyes[0].seam.pixels, 8 * 200);
-    assert_eq!(r.eyes[0].seam.mismatch, seam);
+    assert_eq!(r.eyes[0].seam.as_ref().unwrap().pixels, 8 * 200);
+    assert_eq!(r.eyes[0].seam.as_ref().unwrap().mismatch, seam);
     assert_eq!(r.eyes[0].all.mismatch, seam + centre);
 }
 

@@ -137,7 +137,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         layout,
         jpeg_quality: args.quality,
         yaw_degrees: args.view.yaw,
-        panorama: args.view.projection.is_full_equirect(),
+        projection: args.view.projection,
     };
     let mut written = output::write_image_with(&args.output, &rendered, &options)?;
     if let Some(d) = &args.depth {
@@ -167,7 +167,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     // A top-bottom PNG/JPEG carries no GPano (it would describe one sphere, not two), so its
     // name is what tells players it is stereo.
     if stereo
-        && options.panorama
+        && options.panorama()
         && layout == Layout::TopBottom
         && matches!(format, ImageFormat::Png | ImageFormat::Jpeg)
         && !names_top_bottom(&args.output)

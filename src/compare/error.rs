@@ -23,6 +23,14 @@ pub enum CompareError {
         /// Test (width, height).
         test: (u32, u32),
     },
+    /// The images' descriptions disagree, or do not fit the image.
+    #[error("{what}: {reason}")]
+    Layout {
+        /// What was compared (the two file names).
+        what: String,
+        /// What does not fit.
+        reason: String,
+    },
     /// The images have no pixels.
     #[error("{what}: images have no pixels")]
     Empty {

@@ -1,4 +1,8 @@
-//! Splitting an image into the eyes it holds.
+//! Splitting an image into the eyes it holds: as its file describes it, or guessed from its
+//! shape.
+
+use crate::output::ImageDescription;
+use crate::projection::Projection;
 
 /// One eye's rows in an image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,6 +38,68 @@ pub fn split_eyes(width: u32, height: u32) -> Vec<EyeRows> {
             first_row: 0,
             height,
         }]
+    }
+}
+
+/// How a compared image is laid out.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageLayout {
+    /// The eyes, top first.
+    pub eyes: Vec<EyeRows>,
+    /// The projection each eye is in; `None` when guessed from the image's shape.
+    pub projection: Option<Projection>,
+}
+
+impl ImageLayout {
+    /// The layout of a `width x height` image without a description: a full equirect, a
+    /// top-bottom pair when square ([`split_eyes`]).
+    pub fn from_shape(width: u32, height: u32) -> Self {
+        ImageLayout {
+            eyes: split_eyes(width, height),
+            projection: None,
+        }
+    }
+
+    /// The layout `description` gives an image `height` rows tall; `None` when the rows do
+    /// not split into its eyes.
+    pub fn described(description: &ImageDescription, height: u32) -> Option<Self> {
+        let count = description.eyes.count();
+        if height == 0 || !height.is_multiple_of(count) {
+            return None;
+        }
+        let h = height / count;
+        let names: &[&'static str] = match count {
+            2 => &["left", "right"],
+            _ => &[description.eyes.name()],
+        };
+        let eyes = names
+            .iter()
+            .zip(0..)
+            .map(|(&name, k)| EyeRows {
+                name,
+                first_row: k * h,
+                height: h,
+            })
+            .collect();
+        Some(ImageLayout {
+            eyes,
+            projection: Some(description.projection),
+        })
+    }
+
+    /// True when each eye is a full 360° x 180° equirect (assumed for a guessed layout):
+    /// only then are latitude bands and the seam measured.
+    pub fn is_panorama(&self) -> bool {
+        self.projection.is_none_or(|p| p.is_full_equirect())
+    }
+
+    /// `mono` or `top-bottom`.
+    pub fn name(&self) -> &'static str {
+        if self.eyes.len() == 2 {
+            "top-bottom"
+        } else {
+            "mono"
+        }
     }
 }
 

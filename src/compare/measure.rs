@@ -1,7 +1,7 @@
 //! Computing the report from two images.
 
 use super::CompareError;
-use super::eyes::{EyeRows, LATITUDE_BANDS, band_name, latitude_band, seam_columns, split_eyes};
+use super::eyes::{EyeRows, ImageLayout, LATITUDE_BANDS, band_name, latitude_band, seam_columns};
 use super::report::{CompareReport, EyeReport};
 use super::samples::Samples;
 use super::silhouette::silhouette_errors;
@@ -32,30 +32,37 @@ pub(crate) fn check_sizes<S: Samples>(
 }
 
 /// Compares a test image against a reference of the same size (see the module docs for each
-/// metric). A square image is compared per eye as a top-bottom ODS pair.
+/// metric), laid out as its shape suggests: a square image is compared per eye as a
+/// top-bottom ODS pair, any image as full equirect panoramas.
 pub fn compare<S: Samples>(reference: &S, test: &S) -> Result<CompareReport, CompareError> {
-    compare_named(reference, test, "images")
+    let (width, height) = reference.size();
+    compare_named(
+        reference,
+        test,
+        &ImageLayout::from_shape(width, height),
+        "images",
+    )
 }
 
-/// [`compare`], naming the inputs `what` in errors.
+/// [`compare`] of images laid out as `layout` says (its eyes' rows must lie in the images),
+/// naming the inputs `what` in errors. Latitude bands and the seam are measured only in
+/// panoramas.
 pub(crate) fn compare_named<S: Samples>(
     reference: &S,
     test: &S,
+    layout: &ImageLayout,
     what: &str,
 ) -> Result<CompareReport, CompareError> {
     check_sizes(reference, test, what)?;
     let (width, height) = reference.size();
-    let eyes = split_eyes(width, height);
-    let layout = if eyes.len() == 2 {
-        "top-bottom"
-    } else {
-        "mono"
-    };
+    let panorama = layout.is_panorama();
     Ok(CompareReport {
         width,
         height,
-        layout: layout.to_owned(),
-        eyes: eyes
+        layout: layout.name().to_owned(),
+        projection: layout.projection.map(|p| p.to_string()),
+        eyes: layout
+            .eyes
             .iter()
             .map(|eye| {
                 let mut regions = RegionsAccumulator::default();
@@ -66,9 +73,17 @@ pub(crate) fn compare_named<S: Samples>(
                     width,
                     height: eye.height,
                     all: r.all,
-                    latitude_bands: r.latitude_bands,
-                    seam_columns_each_side: r.seam_columns_each_side,
-                    seam: r.seam,
+                    latitude_bands: if panorama {
+                        r.latitude_bands
+                    } else {
+                        Vec::new()
+                    },
+                    seam_columns_each_side: if panorama {
+                        r.seam_columns_each_side
+                    } else {
+                        0
+                    },
+                    seam: panorama.then_some(r.seam),
                 }
             })
             .collect(),

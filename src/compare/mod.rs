@@ -11,9 +11,12 @@
 //! - colour: pixels both hit whose colour differs, and the PSNR (peak 1) of sRGB-encoded
 //!   colour over pixels both hit.
 //!
-//! A square image is a top-bottom ODS pair and is reported per eye (left = top half).
-//! Latitude bands are 10° by pixel-centre latitude, top first; the seam is the 1% of
-//! columns nearest each edge (at least one column each side).
+//! Files are laid out as their descriptions say ([`crate::output::description`]: projection
+//! and eyes); without one, a square image is taken for a top-bottom ODS pair and any image for
+//! full equirect panoramas. A pair is reported per eye (left = top half). In full equirect
+//! panoramas, latitude bands are 10° by pixel-centre latitude, top first, and the seam is the
+//! 1% of columns nearest each edge (at least one column each side); other projections get
+//! neither.
 //!
 //! Images are read through [`Samples`]: EXR and PNG files as [`crate::output::LinearImage`],
 //! renders as [`crate::Frame`]s; [`compare_eyes`] sums the eyes of a render into one set of

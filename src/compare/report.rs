@@ -17,12 +17,14 @@ pub struct EyeReport {
     pub height: u32,
     /// The whole eye.
     pub all: RegionStats,
-    /// 18 bands of 10° latitude, top (+90..+80) first.
+    /// 18 bands of 10° latitude, top (+90..+80) first; none unless the eye is a full
+    /// equirect panorama.
     pub latitude_bands: Vec<RegionStats>,
-    /// Columns on each side of the seam (longitude ±180°) in `seam`.
+    /// Columns on each side of the seam (longitude ±180°) in `seam`; 0 without a seam.
     pub seam_columns_each_side: u32,
-    /// The seam columns (both edges together).
-    pub seam: RegionStats,
+    /// The seam columns (both edges together); only in a full equirect panorama.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seam: Option<RegionStats>,
 }
 
 /// Result of comparing a test image against a reference.
@@ -32,8 +34,12 @@ pub struct CompareReport {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-    /// `mono` or `top-bottom` (a square image: left eye on top).
+    /// `mono` or `top-bottom` (left eye on top).
     pub layout: String,
+    /// The projection, as `--projection` writes it, when the files say it; `None` when the
+    /// layout was guessed from the image's shape (a square image a top-bottom pair, every
+    /// image a full equirect).
+    pub projection: Option<String>,
     /// One report per eye, left first.
     pub eyes: Vec<EyeReport>,
 }
@@ -86,7 +92,18 @@ impl fmt::Display for RegionStats {
 
 impl fmt::Display for CompareReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{}x{} {} image", self.width, self.height, self.layout)?;
+        match &self.projection {
+            Some(p) => writeln!(
+                f,
+                "{}x{} {p} {} image",
+                self.width, self.height, self.layout
+            )?,
+            None => writeln!(
+                f,
+                "{}x{} {} image (no description in the files: layout guessed from the shape)",
+                self.width, self.height, self.layout
+            )?,
+        }
         for e in &self.eyes {
             writeln!(f, "{:>5}: {}", e.eye, e.all)?;
             let worst = e
@@ -101,8 +118,8 @@ impl fmt::Display for CompareReport {
                     w.region, w.mismatch, w.mismatch_percent
                 )?;
             }
-            let depth = e
-                .seam
+            let Some(seam) = &e.seam else { continue };
+            let depth = seam
                 .depth_relative
                 .as_ref()
                 .map(|d| format!(", depth rel. error max {:.2e}", d.max))
@@ -110,7 +127,7 @@ impl fmt::Display for CompareReport {
             writeln!(
                 f,
                 "       seam ({} columns each side): {} px mismatch ({:.4}%){depth}",
-                e.seam_columns_each_side, e.seam.mismatch, e.seam.mismatch_percent
+                e.seam_columns_each_side, seam.mismatch, seam.mismatch_percent
             )?;
         }
         Ok(())

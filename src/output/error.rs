@@ -128,4 +128,22 @@ pub enum OutputError {
         /// Height in pixels.
         height: u32,
     },
+    /// A file's omnicloud description (see [`super::description`]) does not parse.
+    #[error("{path}: bad `omnicloud` description `{text}`: {reason}")]
+    BadDescription {
+        /// The file concerned.
+        path: PathBuf,
+        /// The description's text.
+        text: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A file could not be read for its description.
+    #[error("{path}: cannot read its metadata: {reason}")]
+    Metadata {
+        /// The file concerned.
+        path: PathBuf,
+        /// What went wrong.
+        reason: String,
+    },
 }

@@ -6,15 +6,18 @@
 use std::io::{Seek, Write};
 use std::path::Path;
 
-use exr::meta::attribute::EnvironmentMap;
+use exr::meta::attribute::{AttributeValue, EnvironmentMap};
 use exr::prelude::{
     AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, SpecificChannels, Text,
     WritableImage,
 };
 
+use super::description::{self, ImageDescription, StoredEyes};
 use super::linear_image::linear_pixel;
+use super::xmp::software;
 use super::{LinearImage, OutputError};
 use crate::frame::Frame;
+use crate::projection::Projection;
 
 /// Which channels an EXR file gets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,13 +54,20 @@ pub enum ExrViews<'a> {
 /// The name of the second view of a stereo file.
 pub const RIGHT_VIEW: &str = "right";
 
-/// Layer attributes: a full panorama is a latitude-longitude environment map; a stereo file
-/// also names its views.
-fn attributes(stereo: bool, panorama: bool) -> LayerAttributes {
+/// Layer attributes: the file's [`ImageDescription`] and the software; a full panorama is a
+/// latitude-longitude environment map; a stereo file also names its views.
+fn attributes(stereo: bool, description: &ImageDescription) -> LayerAttributes {
     let mut a = LayerAttributes {
-        environment_map: panorama.then_some(EnvironmentMap::LatitudeLongitude),
+        environment_map: description
+            .is_panorama()
+            .then_some(EnvironmentMap::LatitudeLongitude),
+        software_name: Some(Text::from(software().as_str())),
         ..LayerAttributes::default()
     };
+    a.other.insert(
+        Text::from(description::KEY),
+        AttributeValue::Text(Text::from(description.to_string().as_str())),
+    );
     if stereo {
         a.multi_view_names = Some(vec![Text::from("left"), Text::from(RIGHT_VIEW)]);
     }
@@ -72,15 +82,23 @@ pub fn encode_exr(
     out: impl Write + Seek,
     path: &Path,
 ) -> Result<(), OutputError> {
-    encode_exr_with(views, content, true, out, path)
+    let eyes = match views {
+        ExrViews::Mono(_) => StoredEyes::Mono,
+        ExrViews::Stereo { .. } => StoredEyes::TopBottom,
+    };
+    let description = ImageDescription {
+        projection: Projection::EQUIRECT,
+        eyes,
+    };
+    encode_exr_with(views, content, &description, out, path)
 }
 
-/// [`encode_exr`] for any projection: `panorama` marks the file as a latitude-longitude
-/// environment map, which only a full 360° x 180° equirect is.
+/// [`encode_exr`] for any projection, described by `description` (whose eyes must match
+/// `views`): only a full 360° x 180° equirect is marked a latitude-longitude environment map.
 pub fn encode_exr_with(
     views: ExrViews<'_>,
     content: ExrContent,
-    panorama: bool,
+    description: &ImageDescription,
     out: impl Write + Seek,
     path: &Path,
 ) -> Result<(), OutputError> {
@@ -114,7 +132,7 @@ pub fn encode_exr_with(
     // Samples are computed per block as the encoder asks, so no full-size float copy of the
     // frame is ever held (20 bytes a pixel at five channels).
     let encoding = Encoding::SMALL_LOSSLESS;
-    let attrs = attributes(right.is_some(), panorama);
+    let attrs = attributes(right.is_some(), description);
     let write = |layer_result: Result<(), exr::error::Error>| layer_result.map_err(exr_error(path));
     // Channels are listed in the sorted order OpenEXR stores them in.
     match (content, right) {

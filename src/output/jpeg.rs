@@ -14,6 +14,7 @@ use image::ImageEncoder;
 use image::codecs::jpeg::JpegEncoder;
 
 use super::OutputError;
+use super::description::{self, ImageDescription};
 use super::xmp::{PhotoSphere, photo_sphere_packet, vr_photo_packets};
 use crate::frame::{Frame, Rendered};
 use crate::render::shading::{linear_to_srgb, srgb_to_linear};
@@ -108,17 +109,31 @@ fn insert_segments(jpeg: &[u8], segments: &[Vec<u8>]) -> Vec<u8> {
     out
 }
 
+/// A comment segment (`FF FE`, length, `text`); `text` is far below the 64 KiB limit.
+fn comment(text: &str) -> Vec<u8> {
+    let mut seg = vec![0xFF, 0xFE];
+    seg.extend_from_slice(&((2 + text.len()) as u16).to_be_bytes());
+    seg.extend_from_slice(text.as_bytes());
+    seg
+}
+
+/// The comment segment holding `description`: [`description::KEY`], a space, the text.
+fn description_comment(d: &ImageDescription) -> Vec<u8> {
+    comment(&format!("{} {d}", description::KEY))
+}
+
 /// Encodes a JPEG; `sphere` adds a Photo Sphere XMP packet (only for a full mono
-/// equirectangular frame).
+/// equirectangular frame), `description` a comment segment holding it.
 pub fn encode_jpeg(
     frame: &Frame,
     quality: u8,
     sphere: Option<&PhotoSphere>,
+    description: Option<&ImageDescription>,
     mut out: impl Write,
     path: &Path,
 ) -> Result<(), OutputError> {
     let jpeg = encode_plain(frame, quality, path)?;
-    let segments = match sphere {
+    let mut segments = match sphere {
         Some(s) => vec![app1(
             XMP_HEADER,
             &[photo_sphere_packet(s).as_bytes()],
@@ -126,6 +141,7 @@ pub fn encode_jpeg(
         )?],
         None => Vec::new(),
     };
+    segments.extend(description.map(description_comment));
     out.write_all(&insert_segments(&jpeg, &segments))
         .map_err(|source| OutputError::Io {
             path: path.to_path_buf(),
@@ -328,7 +344,15 @@ mod tests {
     #[test]
     fn plain_jpeg_without_sphere_has_exif_but_no_xmp() {
         let mut bytes = Vec::new();
-        encode_jpeg(&frame(8, 4, 1), 90, None, &mut bytes, Path::new("a.jpg")).unwrap();
+        encode_jpeg(
+            &frame(8, 4, 1),
+            90,
+            None,
+            None,
+            &mut bytes,
+            Path::new("a.jpg"),
+        )
+        .unwrap();
         let app1 = app1_segments(&bytes);
         assert!(app1.iter().any(|b| b.starts_with(b"Exif\0\0")));
         assert!(!app1.iter().any(|b| b.starts_with(XMP_HEADER)));

@@ -4,12 +4,14 @@ use std::path::{Path, PathBuf};
 
 use super::OutputError;
 use super::atomic::{StagedFile, commit_all};
+use super::description::{ImageDescription, StoredEyes};
 use super::exr::{ExrContent, ExrViews, encode_exr_with};
 use super::format::ImageFormat;
 use super::jpeg::{encode_jpeg, encode_vr_jpeg};
 use super::png::encode_png;
 use super::xmp::{PhotoSphere, heading_from_yaw};
 use crate::frame::{Frame, Rendered};
+use crate::projection::Projection;
 
 /// How a stereo render is laid out in files. Mono renders always give one file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -43,9 +45,17 @@ pub struct OutputOptions {
     pub jpeg_quality: u8,
     /// The camera's `yaw` in degrees (DESIGN §1), written as the panorama's heading.
     pub yaw_degrees: f64,
-    /// True when the image is the full 360° x 180° equirect: only then do files carry the
-    /// metadata that tells players so (GPano, VR Photo, EXR `envmap`).
-    pub panorama: bool,
+    /// The projection of each eye, written into every file's [`ImageDescription`]. Only the
+    /// full 360° x 180° equirect carries the metadata that tells players the image is a
+    /// panorama (GPano, VR Photo, EXR `envmap`).
+    pub projection: Projection,
+}
+
+impl OutputOptions {
+    /// True when the image is the full 360° x 180° equirect.
+    pub fn panorama(&self) -> bool {
+        self.projection.is_full_equirect()
+    }
 }
 
 impl Default for OutputOptions {
@@ -54,7 +64,7 @@ impl Default for OutputOptions {
             layout: Layout::TopBottom,
             jpeg_quality: super::jpeg::DEFAULT_QUALITY,
             yaw_degrees: 0.0,
-            panorama: true,
+            projection: Projection::EQUIRECT,
         }
     }
 }
@@ -62,8 +72,8 @@ impl Default for OutputOptions {
 /// What one file holds.
 #[derive(Debug, Clone, Copy)]
 enum Content<'r> {
-    /// One full equirectangular panorama (mono, or one eye of separate files).
-    Pano(&'r Frame),
+    /// One image: mono, or one eye of separate files.
+    One(&'r Frame, StoredEyes),
     /// Both eyes of an ODS render in one file.
     Pair { left: &'r Frame, right: &'r Frame },
 }
@@ -81,14 +91,17 @@ fn files_for<'r>(
     };
     Ok(match rendered {
         Rendered::Mono(_) if format == ImageFormat::VrJpeg => return Err(not_stereo()),
-        Rendered::Mono(f) => vec![(path.to_path_buf(), Content::Pano(f))],
+        Rendered::Mono(f) => vec![(path.to_path_buf(), Content::One(f, StoredEyes::Mono))],
         // A VR photo holds both eyes whatever the layout.
         Rendered::Stereo { left, right }
             if layout == Layout::SeparateEyes && format != ImageFormat::VrJpeg =>
         {
             vec![
-                (eye_path(path, "left"), Content::Pano(left)),
-                (eye_path(path, "right"), Content::Pano(right)),
+                (eye_path(path, "left"), Content::One(left, StoredEyes::Left)),
+                (
+                    eye_path(path, "right"),
+                    Content::One(right, StoredEyes::Right),
+                ),
             ]
         }
         Rendered::Stereo { left, right } => {
@@ -156,7 +169,9 @@ pub fn write_image(
 /// - `.vr.jpg` is Google's VR Photo (left eye with GPano, right eye in extended XMP);
 /// - EXR files are marked `envmap = latlong`; an ODS pair is a multi-view file.
 ///
-/// JPEG files also carry a small EXIF block (make and model `omnicloud`).
+/// JPEG files also carry a small EXIF block (make and model `omnicloud`). Every PNG, JPEG and
+/// EXR names its projection and eyes ([`ImageDescription`]), so that `compare` and `view` need
+/// not guess them from the image's shape.
 pub fn write_image_with(
     path: &Path,
     rendered: &Rendered,
@@ -165,7 +180,11 @@ pub fn write_image_with(
     let format = ImageFormat::from_path(path)?;
     let quality = options.jpeg_quality;
     let heading_degrees = heading_from_yaw(options.yaw_degrees);
-    let panorama = options.panorama;
+    let panorama = options.panorama();
+    let described = |eyes| ImageDescription {
+        projection: options.projection,
+        eyes,
+    };
     let sphere = |f: &Frame| PhotoSphere {
         width: f.width,
         height: f.height,
@@ -179,31 +198,48 @@ pub fn write_image_with(
         });
     }
     let files = files_for(path, rendered, options.layout, format)?;
-    write_files(files, |content, w, p| match (format, content) {
-        (ImageFormat::Png, Content::Pano(f)) => encode_png(f, sphere(f).as_ref(), w, p),
-        (ImageFormat::Png, Content::Pair { left, right }) => {
-            encode_png(&stack(left, right, p)?, None, w, p)
-        }
-        (ImageFormat::Jpeg, Content::Pano(f)) => encode_jpeg(f, quality, sphere(f).as_ref(), w, p),
-        (ImageFormat::Jpeg, Content::Pair { left, right }) => {
-            encode_jpeg(&stack(left, right, p)?, quality, None, w, p)
-        }
-        (ImageFormat::VrJpeg, Content::Pair { left, right }) => {
-            encode_vr_jpeg(left, right, quality, heading_degrees, w, p)
-        }
-        (ImageFormat::VrJpeg, Content::Pano(_)) => Err(OutputError::NotStereo {
-            path: p.to_path_buf(),
-            what: "a VR photo (.vr.jpg)",
-        }),
-        (ImageFormat::Exr, c) => {
-            encode_exr_with(exr_views(c), ExrContent::ColorAndDepth, panorama, w, p)
+    write_files(files, |content, w, p| {
+        let description = described(content.eyes());
+        let d = Some(&description);
+        match (format, content) {
+            (ImageFormat::Png, Content::One(f, _)) => encode_png(f, sphere(f).as_ref(), d, w, p),
+            (ImageFormat::Png, Content::Pair { left, right }) => {
+                encode_png(&stack(left, right, p)?, None, d, w, p)
+            }
+            (ImageFormat::Jpeg, Content::One(f, _)) => {
+                encode_jpeg(f, quality, sphere(f).as_ref(), d, w, p)
+            }
+            (ImageFormat::Jpeg, Content::Pair { left, right }) => {
+                encode_jpeg(&stack(left, right, p)?, quality, None, d, w, p)
+            }
+            // Its own XMP says what a VR photo holds (and its main image is one eye).
+            (ImageFormat::VrJpeg, Content::Pair { left, right }) => {
+                encode_vr_jpeg(left, right, quality, heading_degrees, w, p)
+            }
+            (ImageFormat::VrJpeg, Content::One(..)) => Err(OutputError::NotStereo {
+                path: p.to_path_buf(),
+                what: "a VR photo (.vr.jpg)",
+            }),
+            (ImageFormat::Exr, c) => {
+                encode_exr_with(exr_views(c), ExrContent::ColorAndDepth, &description, w, p)
+            }
         }
     })
 }
 
+impl Content<'_> {
+    /// The eyes the file stores.
+    fn eyes(self) -> StoredEyes {
+        match self {
+            Content::One(_, eyes) => eyes,
+            Content::Pair { .. } => StoredEyes::TopBottom,
+        }
+    }
+}
+
 fn exr_views(content: Content<'_>) -> ExrViews<'_> {
     match content {
-        Content::Pano(f) => ExrViews::Mono(f),
+        Content::One(f, _) => ExrViews::Mono(f),
         Content::Pair { left, right } => ExrViews::Stereo { left, right },
     }
 }
@@ -226,7 +262,8 @@ pub fn write_depth(
     )
 }
 
-/// [`write_depth`] with `options`' layout, marked a panorama only when `options` says so.
+/// [`write_depth`] with `options`' layout, described with `options`' projection (marked a
+/// panorama only when it is the full equirect).
 pub fn write_depth_with(
     path: &Path,
     rendered: &Rendered,
@@ -235,6 +272,10 @@ pub fn write_depth_with(
     ImageFormat::require(path, ImageFormat::Exr)?;
     let files = files_for(path, rendered, options.layout, ImageFormat::Exr)?;
     write_files(files, |c, w, p| {
-        encode_exr_with(exr_views(c), ExrContent::DepthOnly, options.panorama, w, p)
+        let description = ImageDescription {
+            projection: options.projection,
+            eyes: c.eyes(),
+        };
+        encode_exr_with(exr_views(c), ExrContent::DepthOnly, &description, w, p)
     })
 }

@@ -8,12 +8,14 @@
 //!   ray, `+inf` background); `--depth` files hold `Z` only.
 //! - Stereo: one top-bottom PNG/JPEG (left eye on top), one multi-view EXR, or
 //!   `NAME_left.ext` + `NAME_right.ext`.
-//! - Metadata: Photo Sphere XMP on full panoramas ([`xmp`]), EXIF in JPEG, `envmap` in EXR.
+//! - Metadata: Photo Sphere XMP on full panoramas ([`xmp`]), EXIF in JPEG, `envmap` in EXR;
+//!   every PNG, JPEG and EXR render names its projection and eyes ([`description`]).
 //! - Every file is written to a hidden temporary name in its directory and renamed into
 //!   place, so an interrupted render leaves no half-written output.
 
 pub mod anaglyph;
 pub mod atomic;
+pub mod description;
 pub mod disparity_exr;
 mod error;
 pub mod exif;
@@ -27,6 +29,7 @@ pub mod xmp;
 
 pub use anaglyph::{AnaglyphMethod, anaglyph, write_anaglyph};
 pub use atomic::{StagedFile, remove_staged_files, write_atomically};
+pub use description::{ImageDescription, StoredEyes, read_description};
 pub use error::OutputError;
 pub use exr::{ExrContent, ExrViews, read_exr};
 pub use format::ImageFormat;

@@ -9,18 +9,20 @@ use image::ImageEncoder;
 use image::codecs::png::PngEncoder;
 
 use super::OutputError;
-use super::xmp::{PhotoSphere, photo_sphere_packet};
+use super::description::{self, ImageDescription};
+use super::xmp::{PhotoSphere, photo_sphere_packet, software};
 use crate::frame::Frame;
 
 /// The keyword of the iTXt chunk that holds an XMP packet.
 pub const XMP_KEYWORD: &str = "XML:com.adobe.xmp";
 
 /// Encodes `frame` as an RGBA PNG into `out`; `sphere` adds a Photo Sphere XMP packet (an
-/// uncompressed iTXt chunk before the image data, where viewers look for it). `path` names
-/// the file in errors.
+/// uncompressed iTXt chunk before the image data, where viewers look for it), `description`
+/// a `tEXt` chunk holding it (with `Software`). `path` names the file in errors.
 pub fn encode_png(
     frame: &Frame,
     sphere: Option<&PhotoSphere>,
+    description: Option<&ImageDescription>,
     out: impl Write,
     path: &Path,
 ) -> Result<(), OutputError> {
@@ -44,6 +46,14 @@ pub fn encode_png(
     if let Some(s) = sphere {
         encoder
             .add_itxt_chunk(XMP_KEYWORD.to_owned(), photo_sphere_packet(s))
+            .map_err(err)?;
+    }
+    if let Some(d) = description {
+        encoder
+            .add_text_chunk("Software".to_owned(), software())
+            .map_err(err)?;
+        encoder
+            .add_text_chunk(description::KEY.to_owned(), d.to_string())
             .map_err(err)?;
     }
     let mut writer = encoder.write_header().map_err(err)?;

@@ -207,7 +207,7 @@ pub fn render_frames(
             layout,
             jpeg_quality: options.jpeg_quality,
             yaw_degrees: settings.camera.yaw_deg,
-            panorama: settings.image.projection.is_full_equirect(),
+            projection: settings.image.projection,
         };
         let path = options.frame_path(index);
         output::write_image_with(&path, &rendered, &out)?;

@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use super::VideoError;
+use crate::output::read_description;
 
 /// How the frames hold the eyes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -137,6 +138,18 @@ impl FrameFolder {
             height,
             reason: reason.to_owned(),
         };
+        // A render of another projection would be wrapped round the sphere.
+        let description = read_description(&frames[0]).map_err(|e| VideoError::BadImage {
+            path: frames[0].clone(),
+            reason: e.to_string(),
+        })?;
+        if let Some(d) = description.filter(|d| !d.is_panorama()) {
+            return Err(shape_error(&format!(
+                "it is a {} render; a 360° video holds full equirect panoramas \
+                 (--projection equirect)",
+                d.projection
+            )));
+        }
         let from_tour = tour.as_ref().and_then(|t| t.stereo);
         let (stereo, stereo_source) = match (stereo, from_tour) {
             (StereoChoice::Mono, _) => (StereoLayout::Mono, StereoSource::Given),

@@ -41,6 +41,17 @@ pub enum WebError {
         /// Its height in pixels.
         height: u32,
     },
+    /// The file says it is not a full equirect panorama.
+    #[error(
+        "{path} is a {projection} image, not a 360° panorama: the viewer shows full equirect \
+         renders (--projection equirect)"
+    )]
+    NotPanorama {
+        /// The file.
+        path: PathBuf,
+        /// Its projection, as its description names it.
+        projection: String,
+    },
     /// A folder holds no PNG or JPEG frames.
     #[error("{path} holds no PNG or JPEG frames (frame_000000.png, ...)")]
     NoFrames {

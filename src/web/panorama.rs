@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::WebError;
+use crate::output::{StoredEyes, read_description};
 
 /// Mono equirect (2:1) or an ODS pair, left eye on top (1:1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -146,11 +147,7 @@ impl Panorama {
             });
         };
         let (width, height) = dimensions(&first.path)?;
-        let kind = PanoramaKind::from_size(width, height).ok_or_else(|| WebError::Shape {
-            path: first.path.clone(),
-            width,
-            height,
-        })?;
+        let kind = frame_kind(&first.path, width, height)?;
         for frame in &frames[1..] {
             let (w, h) = dimensions(&frame.path)?;
             if (w, h) != (width, height) {
@@ -270,6 +267,35 @@ fn folder_frames(dir: &Path) -> Result<Vec<FrameFile>, WebError> {
     }
     images.sort_by(|a, b| a.path.file_name().cmp(&b.path.file_name()));
     Ok(images)
+}
+
+/// The kind of the `width x height` image at `path`: as its description says (a render of
+/// another projection is refused), else by its shape.
+fn frame_kind(path: &Path, width: u32, height: u32) -> Result<PanoramaKind, WebError> {
+    let by_shape = PanoramaKind::from_size(width, height);
+    let shape = || WebError::Shape {
+        path: path.to_path_buf(),
+        width,
+        height,
+    };
+    let description = read_description(path).map_err(|e| WebError::NotAnImage {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    })?;
+    let Some(d) = description else {
+        return by_shape.ok_or_else(shape);
+    };
+    if !d.is_panorama() {
+        return Err(WebError::NotPanorama {
+            path: path.to_path_buf(),
+            projection: d.projection.to_string(),
+        });
+    }
+    let kind = match d.eyes {
+        StoredEyes::TopBottom => PanoramaKind::Ods,
+        StoredEyes::Mono | StoredEyes::Left | StoredEyes::Right => PanoramaKind::Mono,
+    };
+    (by_shape == Some(kind)).then_some(kind).ok_or_else(shape)
 }
 
 fn dimensions(path: &Path) -> Result<(u32, u32), WebError> {

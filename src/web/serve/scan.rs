@@ -158,7 +158,7 @@ impl LiveScan {
 /// A frame as PNG bytes.
 pub(super) fn png_bytes(frame: &Frame) -> Result<Vec<u8>, ServeError> {
     let mut bytes = Vec::new();
-    encode_png(frame, None, &mut bytes, Path::new("(served image)"))?;
+    encode_png(frame, None, None, &mut bytes, Path::new("(served image)"))?;
     Ok(bytes)
 }
 

@@ -1,0 +1,265 @@
+//! What an omnicloud image file says it holds: its projection and which eyes it stores, one
+//! line of text (`projection=fisheye:180 eyes=mono`) under the key [`KEY`] in every PNG
+//! (`tEXt`), JPEG (`COM`) and EXR (a text attribute) it writes. Readers of our own files
+//! (`compare`, `view`) trust it over the image's shape: a square image can be a 180° fisheye
+//! as well as a top-bottom ODS pair, and a 2:1 image a Hammer map as well as an equirect.
+
+use std::fmt;
+use std::fs::File;
+use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::path::Path;
+use std::str::FromStr;
+
+use super::{ImageFormat, OutputError};
+use crate::projection::Projection;
+
+/// The PNG keyword, EXR attribute name and JPEG comment prefix of the description.
+pub const KEY: &str = "omnicloud";
+
+/// Which eyes a file stores.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StoredEyes {
+    /// One mono image.
+    Mono,
+    /// The left eye of a stereo render written as separate files.
+    Left,
+    /// The right eye of a stereo render written as separate files.
+    Right,
+    /// Both eyes, left on top (DESIGN §6); in EXR, a multi-view file.
+    TopBottom,
+}
+
+impl StoredEyes {
+    /// The word the description uses.
+    pub fn name(self) -> &'static str {
+        match self {
+            StoredEyes::Mono => "mono",
+            StoredEyes::Left => "left",
+            StoredEyes::Right => "right",
+            StoredEyes::TopBottom => "top-bottom",
+        }
+    }
+
+    /// Number of eye images stacked in the file.
+    pub fn count(self) -> u32 {
+        if self == StoredEyes::TopBottom { 2 } else { 1 }
+    }
+}
+
+impl FromStr for StoredEyes {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        [
+            StoredEyes::Mono,
+            StoredEyes::Left,
+            StoredEyes::Right,
+            StoredEyes::TopBottom,
+        ]
+        .into_iter()
+        .find(|e| e.name() == s)
+        .ok_or_else(|| format!("eyes must be mono, left, right or top-bottom, got `{s}`"))
+    }
+}
+
+/// A file's description.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageDescription {
+    /// The projection of each eye image.
+    pub projection: Projection,
+    /// The eyes stored.
+    pub eyes: StoredEyes,
+}
+
+impl ImageDescription {
+    /// True for a full 360° x 180° equirect, where latitude bands and the seam mean something.
+    pub fn is_panorama(&self) -> bool {
+        self.projection.is_full_equirect()
+    }
+}
+
+/// `projection=P eyes=E`, `P` as `--projection` parses it.
+impl fmt::Display for ImageDescription {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "projection={} eyes={}",
+            self.projection,
+            self.eyes.name()
+        )
+    }
+}
+
+/// Parses what [`fmt::Display`] writes; fields in any order, both required, no others.
+impl FromStr for ImageDescription {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (mut projection, mut eyes) = (None, None);
+        for field in s.split_whitespace() {
+            let (key, value) = field
+                .split_once('=')
+                .ok_or_else(|| format!("expected KEY=VALUE, got `{field}`"))?;
+            match key {
+                "projection" => projection = Some(value.parse::<Projection>()?),
+                "eyes" => eyes = Some(value.parse::<StoredEyes>()?),
+                _ => return Err(format!("unknown field `{key}`")),
+            }
+        }
+        match (projection, eyes) {
+            (Some(projection), Some(eyes)) => Ok(ImageDescription { projection, eyes }),
+            (None, _) => Err("no projection= field".into()),
+            (_, None) => Err("no eyes= field".into()),
+        }
+    }
+}
+
+/// The description `path` carries (by its extension: PNG, JPEG, EXR), read from its header;
+/// `None` for a file without one (another program's, or a VR photo, which its own XMP
+/// describes).
+///
+/// # Errors
+/// The file cannot be opened or its header read, or its description does not parse.
+pub fn read_description(path: &Path) -> Result<Option<ImageDescription>, OutputError> {
+    let text = match ImageFormat::from_path(path)? {
+        ImageFormat::Png => png_text(path)?,
+        ImageFormat::Jpeg => jpeg_comment(path)?,
+        ImageFormat::Exr => exr_attribute(path)?,
+        ImageFormat::VrJpeg => None,
+    };
+    text.map(|text| {
+        text.parse().map_err(|reason| OutputError::BadDescription {
+            path: path.to_path_buf(),
+            text,
+            reason,
+        })
+    })
+    .transpose()
+}
+
+fn open(path: &Path) -> Result<BufReader<File>, OutputError> {
+    File::open(path)
+        .map(BufReader::new)
+        .map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            action: "opening",
+            source,
+        })
+}
+
+fn metadata_error(path: &Path, reason: impl fmt::Display) -> OutputError {
+    OutputError::Metadata {
+        path: path.to_path_buf(),
+        reason: reason.to_string(),
+    }
+}
+
+/// The `tEXt` chunk [`KEY`] ahead of a PNG's image data.
+fn png_text(path: &Path) -> Result<Option<String>, OutputError> {
+    let reader = png::Decoder::new(open(path)?)
+        .read_info()
+        .map_err(|e| metadata_error(path, e))?;
+    Ok(reader
+        .info()
+        .uncompressed_latin1_text
+        .iter()
+        .find(|t| t.keyword == KEY)
+        .map(|t| t.text.clone()))
+}
+
+/// The comment segment starting with [`KEY`] and a space, among a JPEG's segments ahead of its
+/// image data; segments are skipped by their lengths, so large ones are never read.
+fn jpeg_comment(path: &Path) -> Result<Option<String>, OutputError> {
+    let mut file = open(path)?;
+    let io = |source| OutputError::Io {
+        path: path.to_path_buf(),
+        action: "reading",
+        source,
+    };
+    let mut soi = [0u8; 2];
+    file.read_exact(&mut soi).map_err(io)?;
+    if soi != [0xFF, 0xD8] {
+        return Err(metadata_error(
+            path,
+            "not a JPEG (no start-of-image marker)",
+        ));
+    }
+    let prefix = format!("{KEY} ");
+    loop {
+        let mut header = [0u8; 4];
+        file.read_exact(&mut header).map_err(io)?;
+        let (marker, len) = (header[1], u16::from_be_bytes([header[2], header[3]]));
+        // Start of scan: the image data; the header ends.
+        if header[0] != 0xFF || marker == 0xDA || len < 2 {
+            return Ok(None);
+        }
+        let body = u64::from(len - 2);
+        if marker == 0xFE && body <= 4096 {
+            let mut text = vec![0u8; body as usize];
+            file.read_exact(&mut text).map_err(io)?;
+            if let Some(rest) = std::str::from_utf8(&text)
+                .ok()
+                .and_then(|t| t.strip_prefix(&prefix))
+            {
+                return Ok(Some(rest.to_owned()));
+            }
+        } else {
+            file.seek(SeekFrom::Current(body as i64)).map_err(io)?;
+        }
+    }
+}
+
+/// The text attribute [`KEY`] of an EXR's first layer.
+fn exr_attribute(path: &Path) -> Result<Option<String>, OutputError> {
+    let meta = exr::meta::MetaData::read_from_buffered(open(path)?, false)
+        .map_err(|e| metadata_error(path, e))?;
+    let Some(header) = meta.headers.first() else {
+        return Ok(None);
+    };
+    Ok(
+        match header
+            .own_attributes
+            .other
+            .get(&exr::prelude::Text::from(KEY))
+        {
+            Some(exr::meta::attribute::AttributeValue::Text(t)) => Some(t.to_string()),
+            _ => None,
+        },
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn descriptions_read_back_as_written() {
+        for projection in ["equirect", "fisheye:180", "equirect:120,60", "hammer"] {
+            for eyes in ["mono", "left", "right", "top-bottom"] {
+                let text = format!("projection={projection} eyes={eyes}");
+                let d: ImageDescription = text.parse().unwrap();
+                assert_eq!(d.to_string(), text);
+            }
+        }
+        let d: ImageDescription = "eyes=mono  projection=cylindrical:90".parse().unwrap();
+        assert_eq!(d.projection, Projection::Cylindrical { vfov_deg: 90.0 });
+        assert!(!d.is_panorama());
+        assert!(
+            "projection=equirect eyes=top-bottom"
+                .parse::<ImageDescription>()
+                .unwrap()
+                .is_panorama()
+        );
+    }
+
+    #[test]
+    fn bad_descriptions_say_what_is_wrong() {
+        let err = |s: &str| s.parse::<ImageDescription>().unwrap_err();
+        assert!(err("projection=equirect").contains("no eyes"));
+        assert!(err("eyes=mono").contains("no projection"));
+        assert!(err("projection=globe eyes=mono").contains("unknown projection"));
+        assert!(err("projection=equirect eyes=both").contains("top-bottom"));
+        assert!(err("projection=equirect eyes=mono extra").contains("KEY=VALUE"));
+        assert!(err("projection=equirect eyes=mono tint=red").contains("unknown field `tint`"));
+    }
+}
