@@ -6,7 +6,7 @@
 
 use std::fmt;
 use std::fs::File;
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::{BufReader, Read};
 use std::path::Path;
 use std::str::FromStr;
 
@@ -168,45 +168,47 @@ fn png_text(path: &Path) -> Result<Option<String>, OutputError> {
 }
 
 /// The comment segment starting with [`KEY`] and a space, among a JPEG's segments ahead of its
-/// image data; segments are skipped by their lengths, so large ones are never read.
+/// image data. A header that does not parse holds no description: the image decoder reports
+/// what is wrong with the file.
 fn jpeg_comment(path: &Path) -> Result<Option<String>, OutputError> {
     let mut file = open(path)?;
-    let io = |source| OutputError::Io {
-        path: path.to_path_buf(),
-        action: "reading",
-        source,
-    };
-    let mut soi = [0u8; 2];
-    file.read_exact(&mut soi).map_err(io)?;
-    if soi != [0xFF, 0xD8] {
-        return Err(metadata_error(
-            path,
-            "not a JPEG (no start-of-image marker)",
-        ));
-    }
     let prefix = format!("{KEY} ");
-    loop {
-        let mut header = [0u8; 4];
-        file.read_exact(&mut header).map_err(io)?;
-        let (marker, len) = (header[1], u16::from_be_bytes([header[2], header[3]]));
-        // Start of scan: the image data; the header ends.
-        if header[0] != 0xFF || marker == 0xDA || len < 2 {
-            return Ok(None);
+    let mut read = |bytes: &mut [u8]| file.read_exact(bytes).is_ok();
+    let mut soi = [0u8; 2];
+    if !read(&mut soi) || soi != [0xFF, 0xD8] {
+        return Ok(None);
+    }
+    let mut marker = [0u8; 2];
+    while read(&mut marker) && marker[0] == 0xFF {
+        // Fill bytes may precede a marker.
+        while marker[1] == 0xFF {
+            let mut next = [0u8; 1];
+            if !read(&mut next) {
+                return Ok(None);
+            }
+            marker[1] = next[0];
         }
-        let body = u64::from(len - 2);
-        if marker == 0xFE && body <= 4096 {
-            let mut text = vec![0u8; body as usize];
-            file.read_exact(&mut text).map_err(io)?;
-            if let Some(rest) = std::str::from_utf8(&text)
+        // Start of scan: the image data follows; the header ends.
+        if marker[1] == 0xDA {
+            break;
+        }
+        let mut len = [0u8; 2];
+        if !read(&mut len) || u16::from_be_bytes(len) < 2 {
+            break;
+        }
+        let mut body = vec![0u8; usize::from(u16::from_be_bytes(len) - 2)];
+        if !read(&mut body) {
+            break;
+        }
+        if marker[1] == 0xFE
+            && let Some(text) = std::str::from_utf8(&body)
                 .ok()
                 .and_then(|t| t.strip_prefix(&prefix))
-            {
-                return Ok(Some(rest.to_owned()));
-            }
-        } else {
-            file.seek(SeekFrom::Current(body as i64)).map_err(io)?;
+        {
+            return Ok(Some(text.to_owned()));
         }
     }
+    Ok(None)
 }
 
 /// The text attribute [`KEY`] of an EXR's first layer.

@@ -139,11 +139,7 @@ impl FrameFolder {
             reason: reason.to_owned(),
         };
         // A render of another projection would be wrapped round the sphere.
-        let description = read_description(&frames[0]).map_err(|e| VideoError::BadImage {
-            path: frames[0].clone(),
-            reason: e.to_string(),
-        })?;
-        if let Some(d) = description.filter(|d| !d.is_panorama()) {
+        if let Some(d) = read_description(&frames[0])?.filter(|d| !d.is_panorama()) {
             return Err(shape_error(&format!(
                 "it is a {} render; a 360° video holds full equirect panoramas \
                  (--projection equirect)",

@@ -41,6 +41,9 @@ pub enum WebError {
         /// Its height in pixels.
         height: u32,
     },
+    /// A file's metadata could not be read or does not parse (the error names the file).
+    #[error(transparent)]
+    Metadata(#[from] crate::output::OutputError),
     /// The file says it is not a full equirect panorama.
     #[error(
         "{path} is a {projection} image, not a 360° panorama: the viewer shows full equirect \

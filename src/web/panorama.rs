@@ -278,11 +278,7 @@ fn frame_kind(path: &Path, width: u32, height: u32) -> Result<PanoramaKind, WebE
         width,
         height,
     };
-    let description = read_description(path).map_err(|e| WebError::NotAnImage {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    })?;
-    let Some(d) = description else {
+    let Some(d) = read_description(path)? else {
         return by_shape.ok_or_else(shape);
     };
     if !d.is_panorama() {
