@@ -162,8 +162,10 @@ fn a_stereo_bench_times_mono_frames_beside_its_pairs() {
         "pair {:.2} ms, mono {mono:.2} ms, ratio {ratio:.2}",
         m.frame_ms
     );
-    // Two eyes are more work than one; each eye no more than twice a mono frame.
-    assert!((1.0..4.0).contains(&ratio), "{ratio}");
+    // Times are not asserted (a loaded machine stretches either frame); the ratio is the
+    // median pair over the median mono frame.
+    assert!(mono > 0.0 && mono.is_finite(), "{mono}");
+    assert!((ratio - m.frame_ms / mono).abs() <= 1e-9 * ratio, "{ratio}");
     // The pair is still checked against the stereo reference: both eyes' pixels.
     assert_eq!(
         m.accuracy.bands.iter().map(|b| b.pixels).sum::<u64>(),
