@@ -13,7 +13,7 @@ fn main() -> ExitCode {
     match omnicloud::cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", omnicloud::cli::error_message(&e));
             ExitCode::FAILURE
         }
     }

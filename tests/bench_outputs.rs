@@ -190,3 +190,85 @@ fn a_stereo_bench_times_mono_frames_beside_its_pairs() {
     assert_eq!(report.modes[0].mono_frame_ms, None);
     assert!(!omnicloud::bench::report::markdown(&report).contains("stereo / mono"));
 }
+
+#[test]
+fn a_fisheye_bench_reports_no_latitude_bands_or_seam() {
+    let Some(raster) = raster_common::rasterizer() else {
+        return;
+    };
+    let (scene, mut base) = scene_and_settings(scenes::seam());
+    base.image.projection = "fisheye:180".parse().unwrap();
+    let config = BenchConfig {
+        width: Some(128),
+        modes: vec![BenchMode {
+            proxy: Proxy::Bounds,
+            imposter: Imposter::Raycast,
+        }],
+        ..BenchConfig::quick()
+    };
+    let pb = indicatif::ProgressBar::hidden();
+    let report = run_bench_with(&raster, "seam", &scene, &base, &config, &pb).unwrap();
+    assert_eq!((report.width, report.height), (128, 128));
+    assert_eq!(report.projection, "fisheye:180");
+    assert!(
+        omnicloud::bench::report::markdown(&report).contains("128×128 per eye (fisheye:180), mono")
+    );
+    let a = &report.modes[0].accuracy;
+    assert!(a.bands.is_empty() && a.seam.is_none(), "{a:?}");
+    assert!(a.coverage_mismatch < 1e-3, "{}", a.coverage_mismatch);
+    let dir = tempfile::tempdir().unwrap();
+    let files = write_outputs(&report, dir.path()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&files.json).unwrap()).unwrap();
+    let accuracy = &json["modes"][0]["accuracy"];
+    assert!(accuracy.get("seam").is_none(), "{accuracy}");
+    assert_eq!(accuracy["bands"], serde_json::json!([]), "{accuracy}");
+}
+
+#[test]
+fn bench_on_the_command_line_takes_the_projection_and_its_modes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let bench = |extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+            .args(["bench", "data/autzen_trim.laz", "--width", "128"])
+            .args([
+                "--projection",
+                "fisheye:180",
+                "--frames",
+                "1",
+                "--warmup",
+                "0",
+            ])
+            .args(["--quiet", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    // Refused before the scan is read.
+    let refused = bench(&["--modes", "quad+sprite,bounds+raycast"]);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert!(
+        stderr.contains("--modes quad+sprite: the rasterizer draws --projection fisheye:180 with bounds+raycast only"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let Some(_) = raster_common::rasterizer() else {
+        return;
+    };
+    let run = bench(&[]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let report: BenchReport =
+        serde_json::from_slice(&std::fs::read(out.join("bench.json")).unwrap()).unwrap();
+    assert_eq!(report.projection, "fisheye:180");
+    assert_eq!((report.width, report.height), (128, 128));
+    let modes: Vec<String> = report.modes.iter().map(|m| m.mode.label()).collect();
+    assert_eq!(modes, ["bounds+raycast"]);
+    assert!(report.modes[0].accuracy.seam.is_none());
+}

@@ -45,7 +45,7 @@ fn worst_quad(report: &SuiteReport, tag: &str) -> (f64, String) {
             let a = &e.report.mode(QUAD).unwrap().accuracy;
             let region = match tag {
                 "pole" => a.polar_mismatch(),
-                _ => a.seam.fraction(),
+                _ => a.seam.expect("suite scenes are panoramas").fraction(),
             };
             (region, e.entry.name.clone())
         })
@@ -77,7 +77,7 @@ fn bounds_raycast_is_exact_and_quad_fails_at_poles_and_seam() {
             a.color_mismatch,
             q.coverage_mismatch,
             q.polar_mismatch(),
-            q.seam.fraction(),
+            q.seam.expect("suite scenes are panoramas").fraction(),
         );
         if a.coverage_mismatch > COVERAGE_MAX
             || a.depth_rel_p99 > DEPTH_P99_MAX

@@ -1,5 +1,6 @@
 //! Accuracy of a render against the ray-traced reference, in the terms the benchmark tables
-//! use: coverage mismatch (overall, per 10° latitude band and at the seam), IoU, relative
+//! use: coverage mismatch (overall, and in full equirect panoramas per 10° latitude band and
+//! at the seam), IoU, relative
 //! depth error percentiles where both hit, unlit colour mismatch where both hit, and PSNR.
 //!
 //! Every figure is [`crate::compare`]'s, over all eyes together ([`compare_eyes`]): hit =
@@ -26,8 +27,13 @@ fn shape(r: &Rendered) -> String {
     format!("{} frame(s) of {}x{}", f.len(), f[0].width, f[0].height)
 }
 
-/// Compares `test` against `reference` over all eyes.
-pub fn measure(reference: &Rendered, test: &Rendered) -> Result<Accuracy, ShapeMismatch> {
+/// Compares `test` against `reference` over all eyes; latitude bands and the seam only when
+/// the renders are full equirect `panorama`s (in other projections rows are not latitudes).
+pub fn measure(
+    reference: &Rendered,
+    test: &Rendered,
+    panorama: bool,
+) -> Result<Accuracy, ShapeMismatch> {
     let (rf, tf) = (reference.frames(), test.frames());
     let mismatch = || ShapeMismatch {
         reference: shape(reference),
@@ -38,7 +44,12 @@ pub fn measure(reference: &Rendered, test: &Rendered) -> Result<Accuracy, ShapeM
     }
     let pairs: Vec<_> = rf.into_iter().zip(tf).collect();
     let regions = compare_eyes(&pairs).map_err(|_| mismatch())?;
-    Ok(accuracy(&regions))
+    let mut a = accuracy(&regions);
+    if !panorama {
+        a.bands.clear();
+        a.seam = None;
+    }
+    Ok(a)
 }
 
 fn count(r: &RegionStats) -> RegionCount {
@@ -79,7 +90,7 @@ fn accuracy(r: &Regions) -> Accuracy {
                 }
             })
             .collect(),
-        seam: count(&r.seam),
+        seam: Some(count(&r.seam)),
     }
 }
 
@@ -102,7 +113,7 @@ mod tests {
     fn counts_mismatch_iou_depth_colour_and_bands() {
         let r = frame_with(&[(0, 0, 2.0, [10, 10, 10]), (1, 1, 4.0, [20, 20, 20])]);
         let t = frame_with(&[(1, 1, 4.4, [20, 20, 21]), (2, 3, 1.0, [1, 1, 1])]);
-        let a = measure(&Rendered::Mono(r), &Rendered::Mono(t)).unwrap();
+        let a = measure(&Rendered::Mono(r.clone()), &Rendered::Mono(t.clone()), true).unwrap();
         assert_eq!(a.coverage_mismatch, 2.0 / 32.0);
         assert!((a.iou - 1.0 / 3.0).abs() < 1e-12);
         assert!((a.depth_rel_max - 0.1).abs() < 1e-6);
@@ -122,17 +133,21 @@ mod tests {
         // Width 8: one seam column each side, 8 pixels; (0, 0) is in it.
         assert_eq!(
             a.seam,
-            RegionCount {
+            Some(RegionCount {
                 pixels: 8,
                 mismatched: 1
-            }
+            })
         );
+        // Another projection's rows are not latitudes: the same figures, no bands or seam.
+        let b = measure(&Rendered::Mono(r), &Rendered::Mono(t), false).unwrap();
+        assert!(b.bands.is_empty() && b.seam.is_none());
+        assert_eq!((b.coverage_mismatch, b.iou), (a.coverage_mismatch, a.iou));
     }
 
     #[test]
     fn identical_renders_are_exact() {
         let r = Rendered::Mono(frame_with(&[(3, 2, 7.0, [5, 6, 7])]));
-        let a = measure(&r, &r.clone()).unwrap();
+        let a = measure(&r, &r.clone(), true).unwrap();
         assert_eq!(a.coverage_mismatch, 0.0);
         assert_eq!(a.iou, 1.0);
         assert_eq!(a.depth_rel_p99, 0.0);
@@ -143,6 +158,6 @@ mod tests {
     fn different_shapes_are_an_error() {
         let a = Rendered::Mono(Frame::new(8, 4));
         let b = Rendered::Mono(Frame::new(16, 8));
-        assert!(measure(&a, &b).is_err());
+        assert!(measure(&a, &b, true).is_err());
     }
 }

@@ -94,8 +94,10 @@ pub struct Accuracy {
     /// Coverage mismatch per 10° latitude band, north to south (as `compare` orders them).
     pub bands: Vec<BandAccuracy>,
     /// Coverage mismatch in the seam columns (as `compare` defines them: the 1 % of columns
-    /// nearest each edge, at least one each side).
-    pub seam: RegionCount,
+    /// nearest each edge, at least one each side); only in full equirect panoramas, as are
+    /// the bands.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seam: Option<RegionCount>,
 }
 
 impl Accuracy {
@@ -189,6 +191,9 @@ pub struct BenchReport {
     pub width: u32,
     /// Image height per eye.
     pub height: u32,
+    /// The projection, as `--projection` writes it (`equirect` in reports that predate it).
+    #[serde(default = "equirect")]
+    pub projection: String,
     /// `mono` or `ods`.
     pub stereo: String,
     /// The GPU adapter (name and backend).
@@ -356,6 +361,10 @@ fn cell(report: &BenchReport, proxy: Proxy, imposter: Imposter) -> Option<&ModeR
     report.mode(BenchMode { proxy, imposter })
 }
 
+fn equirect() -> String {
+    "equirect".into()
+}
+
 /// The report as Markdown: a header with the setup, then a table in the shape of the paper's
 /// Table 1 (columns: proxies; rows: per imposter, frame time, coverage error, depth error).
 pub fn markdown(report: &BenchReport) -> String {
@@ -363,10 +372,15 @@ pub fn markdown(report: &BenchReport) -> String {
     let _ = writeln!(out, "## Benchmark: {}\n", report.scene);
     let _ = writeln!(
         out,
-        "- {} points, {}×{} per eye, {}\n- adapter: {}\n- frame time: median of {} frames after {} warm-up frames, measured by {}\n- reference: CPU ray tracer, {:.3} s on {} threads\n",
+        "- {} points, {}×{} per eye{}, {}\n- adapter: {}\n- frame time: median of {} frames after {} warm-up frames, measured by {}\n- reference: CPU ray tracer, {:.3} s on {} threads\n",
         report.points,
         report.width,
         report.height,
+        if report.projection == "equirect" {
+            String::new()
+        } else {
+            format!(" ({})", report.projection)
+        },
         report.stereo,
         report.adapter,
         report.timed_frames,
@@ -487,10 +501,10 @@ pub(crate) mod tests {
                             },
                         })
                         .collect(),
-                    seam: RegionCount {
+                    seam: Some(RegionCount {
                         pixels: 100,
                         mismatched: 10 - k as u64,
-                    },
+                    }),
                 },
                 stats: ModeStats::default(),
             })
@@ -500,6 +514,7 @@ pub(crate) mod tests {
             points: 100,
             width: 64,
             height: 32,
+            projection: "equirect".into(),
             stereo: "mono".into(),
             adapter: "test adapter".into(),
             warmup_frames: 1,

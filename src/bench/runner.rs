@@ -177,7 +177,11 @@ pub fn run_bench_with(
                 sustained_fps: config.timed_frames as f64 / run_seconds.max(1e-9),
                 mono_frame_ms: mono.is_some().then(|| median(mono_times)),
                 timing: kind,
-                accuracy: measure(&reference, &rendered)?,
+                accuracy: measure(
+                    &reference,
+                    &rendered,
+                    settings.image.projection.is_full_equirect(),
+                )?,
                 stats: ModeStats {
                     culled: stats.culled,
                     drawn: stats.drawn,
@@ -199,6 +203,7 @@ pub fn run_bench_with(
         points: scene.len(),
         width: settings.image.width,
         height: settings.image.height,
+        projection: settings.image.projection.to_string(),
         stereo: stereo_name(&settings.stereo).to_string(),
         adapter: rasterizer.adapter_name().to_string(),
         warmup_frames: config.warmup_frames,

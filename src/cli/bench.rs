@@ -1,11 +1,12 @@
 //! `omnicloud bench`: one scan, or the stability suite, through every rasterizer mode.
 
-use anyhow::Result;
+use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
 use crate::bench::{self, BenchConfig};
 use crate::prepare::prepare;
+use crate::projection::Image;
 use crate::render::{ColorMode, RenderSettings};
 
 use super::args::BenchArgs;
@@ -14,13 +15,38 @@ use super::progress;
 /// Width used for a scan when `--width` is not given.
 const DEFAULT_WIDTH: u32 = 1920;
 
+/// The modes to time: those given, else all ten; a scan in another projection than the full
+/// equirect is drawn with `bounds+raycast` only.
+fn modes(args: &BenchArgs) -> Result<Vec<bench::BenchMode>> {
+    let projection = args.view.projection;
+    let drawn = |m: &bench::BenchMode| {
+        args.suite.is_some() || crate::raster::draws(projection, m.proxy, m.imposter)
+    };
+    let Some(given) = &args.modes else {
+        return Ok(bench::BenchMode::all().into_iter().filter(drawn).collect());
+    };
+    let refused: Vec<String> = given
+        .iter()
+        .filter(|m| !drawn(m))
+        .map(|m| m.label())
+        .collect();
+    if !refused.is_empty() {
+        bail!(
+            "--modes {}: the rasterizer draws --projection {projection} with bounds+raycast \
+             only (billboard proxies and sprites are equirect-only)",
+            refused.join(",")
+        );
+    }
+    Ok(given.clone())
+}
+
 /// Runs `omnicloud bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let config = BenchConfig {
         width: args.width,
         stereo: args.view.stereo_mode(),
         depth_map: args.view.depth_map()?,
-        modes: args.modes.clone().unwrap_or_else(bench::BenchMode::all),
+        modes: modes(args)?,
         warmup_frames: args.warmup,
         timed_frames: args.frames as usize,
         mono_baseline: !args.no_mono_baseline,
@@ -62,6 +88,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             args.width.unwrap_or(DEFAULT_WIDTH),
             args.view.camera_at(DVec3::ZERO),
         );
+        if args.view.projection.is_map() {
+            bail!("bench times views from a camera: --projection map has none");
+        }
+        base.image = Image::new(args.view.projection, base.image.width)
+            .map_err(|e| anyhow!("--width: {e}"))?;
         base.color = ColorMode::Auto;
         let name = file
             .file_stem()

@@ -43,6 +43,21 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// The message of `error` and its causes, joined by `: ` as anyhow's `{:#}` joins them, but
+/// without a cause whose text the message already holds: many errors name their source in
+/// their own text, and the line would otherwise say it twice.
+pub fn error_message(error: &anyhow::Error) -> String {
+    let mut message = error.to_string();
+    for cause in error.chain().skip(1) {
+        let text = cause.to_string();
+        if !message.contains(&text) {
+            message.push_str(": ");
+            message.push_str(&text);
+        }
+    }
+    message
+}
+
 /// Warns, through `say`, of points loading dropped for NaN/inf coordinates.
 fn warn_dropped(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
     if report.dropped_nonfinite > 0 {
@@ -51,5 +66,35 @@ fn warn_dropped(file: &std::path::Path, report: &crate::io::LoadReport, say: &im
             report.dropped_nonfinite,
             file.display()
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug, thiserror::Error)]
+    #[error("reading {path}: {source}")]
+    struct Quoting {
+        path: &'static str,
+        #[source]
+        source: std::io::Error,
+    }
+
+    #[test]
+    fn a_cause_is_said_once() {
+        let io = || std::io::Error::other("disk on fire");
+        let quoting = anyhow::Error::new(Quoting {
+            path: "a.las",
+            source: io(),
+        });
+        assert_eq!(
+            format!("{quoting:#}"),
+            "reading a.las: disk on fire: disk on fire"
+        );
+        assert_eq!(error_message(&quoting), "reading a.las: disk on fire");
+        // A context that does not quote its cause keeps it.
+        let wrapped = anyhow::Error::new(io()).context("loading the scan");
+        assert_eq!(error_message(&wrapped), "loading the scan: disk on fire");
     }
 }

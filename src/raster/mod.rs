@@ -46,6 +46,7 @@ pub use error::RasterError;
 pub use pipeline_cache::CacheStatus;
 pub use raster_frame::RasterFrame;
 pub use rasterizer::Rasterizer;
+pub use sizing::draws;
 pub use stats::RasterStats;
 pub use timing::{FrameTiming, TimingSource};
 pub use upload::UploadedScene;

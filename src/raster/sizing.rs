@@ -107,6 +107,12 @@ pub struct FrameSizing {
     pub batch_points: u32,
 }
 
+/// Whether the rasterizer draws `projection` with `proxy` and `imposter`: billboard proxies
+/// and sprites are equirect-only.
+pub fn draws(projection: Projection, proxy: Proxy, imposter: Imposter) -> bool {
+    projection.is_full_equirect() || (proxy == Proxy::Bounds && imposter == Imposter::Raycast)
+}
+
 impl FrameSizing {
     /// Sizes a frame under `settings` whose chunks hold at most `max_chunk_points` points.
     pub fn new(
@@ -116,9 +122,7 @@ impl FrameSizing {
         max_chunk_points: u64,
     ) -> Result<Self, RasterError> {
         let projection = settings.image.projection;
-        if !projection.is_full_equirect()
-            && (settings.proxy != Proxy::Bounds || settings.imposter != Imposter::Raycast)
-        {
+        if !draws(projection, settings.proxy, settings.imposter) {
             return Err(RasterError::Settings(format!(
                 "the rasterizer draws the {projection} projection with --proxy bounds \
                  --imposter raycast only (billboard proxies and sprites are equirect-only)"
