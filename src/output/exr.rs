@@ -1,7 +1,8 @@
 //! OpenEXR: 32-bit float channels `R`, `G`, `B` (linear light, premultiplied by coverage),
 //! `A` (coverage) and `Z` (distance along the ray in metres, `+inf` for background); or `Z`
-//! alone for depth-only files. Every file is marked as a latitude-longitude environment map
-//! (`envmap`); an ODS pair is one multi-view file (left, right).
+//! alone for depth-only files. A full equirect panorama is marked as a latitude-longitude
+//! environment map (`envmap`); every file carries its description (`omnicloud`) and the
+//! software; an ODS pair is one multi-view file (left, right).
 
 use std::io::{Seek, Write};
 use std::path::Path;
