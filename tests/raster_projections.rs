@@ -88,7 +88,8 @@ fn agree(raster: &Rasterizer, scene: &Scene, s: &RenderSettings, label: &str) ->
         .zip(frames(&test).iter())
         .enumerate()
     {
-        let regions = compare_eyes(&[(r, t)]).expect("same size");
+        let panorama = s.image.projection.is_full_equirect();
+        let regions = compare_eyes(&[(r, t)], panorama).expect("same size");
         let all: &RegionStats = &regions.all;
         let fraction = all.mismatch as f64 / all.pixels as f64;
         let p99 = all.depth_relative.as_ref().map_or(0.0, |d| d.p99);

@@ -92,7 +92,7 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
             100.0 * a.coverage_fraction(),
             a.pole().0,
             100.0 * a.pole_fraction(),
-            a.regions.seam.mismatch,
+            a.seam().mismatch,
             100.0 * a.seam_fraction(),
             a.depth_rel_p99(),
             stats.vertices
@@ -130,10 +130,10 @@ fn billboards_are_measurably_worse_than_bounds_at_poles_and_seam() {
             bounds.pole().0
         );
         assert!(
-            a.regions.seam.mismatch > bounds.regions.seam.mismatch + 12,
+            a.seam().mismatch > bounds.seam().mismatch + 12,
             "{proxy:?}+{imposter:?} seam: {} vs bounds {}",
-            a.regions.seam.mismatch,
-            bounds.regions.seam.mismatch
+            a.seam().mismatch,
+            bounds.seam().mismatch
         );
     }
     // Tessellation fixes most of the pole error: static:4 sits between quad and bounds.

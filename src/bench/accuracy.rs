@@ -43,13 +43,8 @@ pub fn measure(
         return Err(mismatch());
     }
     let pairs: Vec<_> = rf.into_iter().zip(tf).collect();
-    let regions = compare_eyes(&pairs).map_err(|_| mismatch())?;
-    let mut a = accuracy(&regions);
-    if !panorama {
-        a.bands.clear();
-        a.seam = None;
-    }
-    Ok(a)
+    let regions = compare_eyes(&pairs, panorama).map_err(|_| mismatch())?;
+    Ok(accuracy(&regions))
 }
 
 fn count(r: &RegionStats) -> RegionCount {
@@ -90,7 +85,7 @@ fn accuracy(r: &Regions) -> Accuracy {
                 }
             })
             .collect(),
-        seam: Some(count(&r.seam)),
+        seam: r.seam.as_ref().map(count),
     }
 }
 

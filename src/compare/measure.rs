@@ -65,7 +65,7 @@ pub(crate) fn compare_named<S: Samples>(
             .eyes
             .iter()
             .map(|eye| {
-                let mut regions = RegionsAccumulator::default();
+                let mut regions = RegionsAccumulator::new(panorama);
                 regions.add_eye(reference, test, eye);
                 let r = regions.finish();
                 EyeReport {
@@ -73,40 +73,38 @@ pub(crate) fn compare_named<S: Samples>(
                     width,
                     height: eye.height,
                     all: r.all,
-                    latitude_bands: if panorama {
-                        r.latitude_bands
-                    } else {
-                        Vec::new()
-                    },
-                    seam_columns_each_side: if panorama {
-                        r.seam_columns_each_side
-                    } else {
-                        0
-                    },
-                    seam: panorama.then_some(r.seam),
+                    latitude_bands: r.latitude_bands,
+                    seam_columns_each_side: r.seam_columns_each_side,
+                    seam: r.seam,
                 }
             })
             .collect(),
     })
 }
 
-/// Statistics over a set of eyes: all their pixels, each 10° latitude band, the seam.
+/// Statistics over a set of eyes: all their pixels and, in full equirect panoramas, each 10°
+/// latitude band and the seam.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Regions {
     /// Every pixel.
     pub all: RegionStats,
-    /// 18 bands of 10° latitude, top (+90..+80) first.
+    /// 18 bands of 10° latitude, top (+90..+80) first; none outside panoramas.
     pub latitude_bands: Vec<RegionStats>,
-    /// Columns on each side of the seam (longitude ±180°) in `seam`.
+    /// Columns on each side of the seam (longitude ±180°) in `seam`; 0 without a seam.
     pub seam_columns_each_side: u32,
-    /// The seam columns (both edges together).
-    pub seam: RegionStats,
+    /// The seam columns (both edges together); only in panoramas.
+    pub seam: Option<RegionStats>,
 }
 
-/// Compares pairs of (reference, test) eye images, each a whole equirect image, and sums
-/// their statistics: the measure of a mono render or of both eyes of a stereo pair together.
-pub fn compare_eyes<S: Samples>(pairs: &[(&S, &S)]) -> Result<Regions, CompareError> {
-    let mut regions = RegionsAccumulator::default();
+/// Compares pairs of (reference, test) eye images, each a whole image, and sums their
+/// statistics: the measure of a mono render or of both eyes of a stereo pair together.
+/// Latitude bands and the seam are measured when the eyes are full equirect `panorama`s (in
+/// other projections rows are not latitudes).
+pub fn compare_eyes<S: Samples>(
+    pairs: &[(&S, &S)],
+    panorama: bool,
+) -> Result<Regions, CompareError> {
+    let mut regions = RegionsAccumulator::new(panorama);
     for &(reference, test) in pairs {
         check_sizes(reference, test, "eyes")?;
         let (_, height) = reference.size();
@@ -123,25 +121,25 @@ pub fn compare_eyes<S: Samples>(pairs: &[(&S, &S)]) -> Result<Regions, CompareEr
 /// Running sums of [`Regions`], fed one eye at a time.
 struct RegionsAccumulator {
     all: RegionAccumulator,
+    /// Empty outside panoramas.
     bands: Vec<RegionAccumulator>,
-    seam: RegionAccumulator,
+    /// `None` outside panoramas.
+    seam: Option<RegionAccumulator>,
     seam_columns: u32,
 }
 
-impl Default for RegionsAccumulator {
-    fn default() -> Self {
+impl RegionsAccumulator {
+    /// Sums over whole eyes, and over bands and seam when the eyes are `panorama`s.
+    fn new(panorama: bool) -> Self {
+        let bands = if panorama { LATITUDE_BANDS } else { 0 };
         RegionsAccumulator {
             all: RegionAccumulator::default(),
-            bands: (0..LATITUDE_BANDS)
-                .map(|_| RegionAccumulator::default())
-                .collect(),
-            seam: RegionAccumulator::default(),
+            bands: (0..bands).map(|_| RegionAccumulator::default()).collect(),
+            seam: panorama.then(RegionAccumulator::default),
             seam_columns: 0,
         }
     }
-}
 
-impl RegionsAccumulator {
     /// Adds rows `eye` of `reference` and `test` (same size, checked by the caller).
     fn add_eye<S: Samples>(&mut self, reference: &S, test: &S, eye: &EyeRows) {
         let (width, _) = reference.size();
@@ -151,10 +149,12 @@ impl RegionsAccumulator {
         let ref_hit: Vec<bool> = (base..base + w * h).map(|k| reference.hit(k)).collect();
         let test_hit: Vec<bool> = (base..base + w * h).map(|k| test.hit(k)).collect();
         let silhouette = silhouette_errors(&ref_hit, &test_hit, w, h);
-        self.seam_columns = seam_columns(width);
+        if self.seam.is_some() {
+            self.seam_columns = seam_columns(width);
+        }
         let seam = self.seam_columns as usize;
         for j in 0..h {
-            let band = &mut self.bands[latitude_band(j as u32, eye.height)];
+            let mut band = self.bands.get_mut(latitude_band(j as u32, eye.height));
             for i in 0..w {
                 let local = j * w + i;
                 let k = base + local;
@@ -170,9 +170,13 @@ impl RegionsAccumulator {
                         .then(|| color_squared_error(reference.srgb(k), test.srgb(k))),
                 };
                 self.all.add(&e);
-                band.add(&e);
-                if i < seam || i >= w - seam {
-                    self.seam.add(&e);
+                if let Some(band) = band.as_deref_mut() {
+                    band.add(&e);
+                }
+                if let Some(s) = self.seam.as_mut()
+                    && (i < seam || i >= w - seam)
+                {
+                    s.add(&e);
                 }
             }
         }
@@ -188,7 +192,7 @@ impl RegionsAccumulator {
                 .map(|(b, acc)| acc.finish(band_name(b)))
                 .collect(),
             seam_columns_each_side: self.seam_columns,
-            seam: self.seam.finish("seam".to_owned()),
+            seam: self.seam.map(|s| s.finish("seam".to_owned())),
         }
     }
 }

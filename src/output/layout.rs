@@ -56,6 +56,14 @@ impl OutputOptions {
     pub fn panorama(&self) -> bool {
         self.projection.is_full_equirect()
     }
+
+    /// The description of a file holding `eyes` of the image.
+    fn description(&self, eyes: StoredEyes) -> ImageDescription {
+        ImageDescription {
+            projection: self.projection,
+            eyes,
+        }
+    }
 }
 
 impl Default for OutputOptions {
@@ -181,10 +189,6 @@ pub fn write_image_with(
     let quality = options.jpeg_quality;
     let heading_degrees = heading_from_yaw(options.yaw_degrees);
     let panorama = options.panorama();
-    let described = |eyes| ImageDescription {
-        projection: options.projection,
-        eyes,
-    };
     let sphere = |f: &Frame| PhotoSphere {
         width: f.width,
         height: f.height,
@@ -199,7 +203,7 @@ pub fn write_image_with(
     }
     let files = files_for(path, rendered, options.layout, format)?;
     write_files(files, |content, w, p| {
-        let description = described(content.eyes());
+        let description = options.description(content.eyes());
         let d = Some(&description);
         match (format, content) {
             (ImageFormat::Png, Content::One(f, _)) => encode_png(f, sphere(f).as_ref(), d, w, p),
@@ -272,10 +276,7 @@ pub fn write_depth_with(
     ImageFormat::require(path, ImageFormat::Exr)?;
     let files = files_for(path, rendered, options.layout, ImageFormat::Exr)?;
     write_files(files, |c, w, p| {
-        let description = ImageDescription {
-            projection: options.projection,
-            eyes: c.eyes(),
-        };
+        let description = options.description(c.eyes());
         encode_exr_with(exr_views(c), ExrContent::DepthOnly, &description, w, p)
     })
 }

@@ -157,9 +157,16 @@ impl Agreement {
         let (m, p) = self.pole();
         m as f64 / p.max(1) as f64
     }
+    /// The seam columns (of a full equirect panorama).
+    pub fn seam(&self) -> &RegionStats {
+        self.regions
+            .seam
+            .as_ref()
+            .expect("a full equirect panorama has a seam")
+    }
     /// Coverage-mismatched fraction of the seam columns.
     pub fn seam_fraction(&self) -> f64 {
-        let s = &self.regions.seam;
+        let s = self.seam();
         s.mismatch as f64 / s.pixels.max(1) as f64
     }
 }
@@ -172,7 +179,9 @@ pub fn compare(
     settings: &RenderSettings,
 ) -> Agreement {
     let expected = reference_frame(reference, colors, settings.image);
-    let regions = compare_eyes(&[(&expected, frame)]).expect("frame and reference agree in size");
+    let panorama = settings.image.projection.is_full_equirect();
+    let regions =
+        compare_eyes(&[(&expected, frame)], panorama).expect("frame and reference agree in size");
     let color_diff = reference
         .iter()
         .enumerate()
