@@ -272,3 +272,58 @@ fn bench_on_the_command_line_takes_the_projection_and_its_modes() {
     assert_eq!(modes, ["bounds+raycast"]);
     assert!(report.modes[0].accuracy.seam.is_none());
 }
+
+#[test]
+fn bench_suite_refuses_the_scene_and_camera_options_it_would_ignore() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let bench = |suite: &str, extra: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+            .args(["bench", "--suite", suite, "--quiet", "--out"])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let refused = bench(
+        "data/scenes",
+        &[
+            "--projection",
+            "fisheye:180",
+            "--yaw",
+            "30",
+            "--radius",
+            "0.2",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success());
+    assert!(
+        stderr.contains(
+            "--suite places each view and prepares each scene from its manifest: --yaw, \
+             --projection, --radius would be ignored"
+        ),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // The stereo options apply, and options at their defaults are not refused: the run gets
+    // as far as the (missing) manifest.
+    let missing = dir.path().join("no_suite");
+    let accepted = bench(
+        missing.to_str().unwrap(),
+        &[
+            "--stereo",
+            "ods",
+            "--ipd",
+            "0.07",
+            "--yaw",
+            "0",
+            "--projection",
+            "equirect",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&accepted.stderr);
+    assert!(!accepted.status.success());
+    assert!(!stderr.contains("would be ignored"), "{stderr}");
+    assert!(stderr.contains("no_suite"), "{stderr}");
+}

@@ -422,8 +422,8 @@ pub struct BenchArgs {
     /// Image width per eye [1920 for a scan; the manifest's width for --suite].
     #[arg(long, value_parser = parse::width)]
     pub width: Option<u32>,
-    /// Scene, camera and stereo (for --suite only --stereo and the ODS options given with
-    /// it apply: the manifest places each view).
+    /// Scene, camera and stereo (with --suite only --stereo and its ODS options: the manifest
+    /// places each view, and the scene and camera options are refused).
     #[command(flatten)]
     pub view: ViewArgs,
     /// Modes to time, comma-separated, as PROXY+IMPOSTER (e.g. quad+sprite,bounds+raycast)

@@ -9,7 +9,10 @@ use crate::prepare::prepare;
 use crate::projection::Image;
 use crate::render::{ColorMode, RenderSettings};
 
-use super::args::BenchArgs;
+use crate::io::Up;
+use crate::prepare::filter::ReturnFilter;
+
+use super::args::{BenchArgs, ViewArgs};
 use super::progress;
 
 /// Width used for a scan when `--width` is not given.
@@ -40,8 +43,40 @@ fn modes(args: &BenchArgs) -> Result<Vec<bench::BenchMode>> {
     Ok(given.clone())
 }
 
+/// The scene and camera options `view` sets that `--suite` would ignore: its manifest
+/// places each view and prepares each scene.
+fn ignored_by_suite(view: &ViewArgs) -> Vec<&'static str> {
+    [
+        ("--camera", view.camera.is_some()),
+        ("--yaw", view.yaw != 0.0),
+        ("--pitch", view.pitch != 0.0),
+        ("--roll", view.roll != 0.0),
+        ("--projection", !view.projection.is_full_equirect()),
+        ("--radius", view.radius.is_some()),
+        ("--up", view.up != Up::default()),
+        ("--classes", view.classes.is_some()),
+        ("--drop-classes", view.drop_classes.is_some()),
+        ("--returns", view.returns != ReturnFilter::default()),
+        ("--crop", view.crop.is_some()),
+        ("--max-distance", view.max_distance.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(name, set)| set.then_some(name))
+    .collect()
+}
+
 /// Runs `omnicloud bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.suite.is_some() {
+        let ignored = ignored_by_suite(&args.view);
+        if !ignored.is_empty() {
+            bail!(
+                "--suite places each view and prepares each scene from its manifest: {} \
+                 would be ignored (drop them, or bench a scan with them)",
+                ignored.join(", ")
+            );
+        }
+    }
     let config = BenchConfig {
         width: args.width,
         stereo: args.view.stereo_mode(),
