@@ -10,11 +10,40 @@ use std::io::{BufReader, Read};
 use std::path::Path;
 use std::str::FromStr;
 
+use serde::{Deserialize, Serialize};
+
 use super::{ImageFormat, OutputError};
 use crate::projection::Projection;
 
 /// The PNG keyword, EXR attribute name and JPEG comment prefix of the description.
 pub const KEY: &str = "omnicloud";
+
+/// How each frame file of a tour or video holds the eyes: what `tour` writes into its
+/// manifest and `video` reads from it or from the frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum StereoLayout {
+    /// One equirectangular panorama (2:1).
+    Mono,
+    /// An ODS pair, left eye on top (DESIGN §6; 1:1).
+    TopBottom,
+}
+
+impl StereoLayout {
+    /// The name the command line, the manifest and reports use.
+    pub fn name(self) -> &'static str {
+        StoredEyes::from(self).name()
+    }
+}
+
+impl From<StereoLayout> for StoredEyes {
+    fn from(layout: StereoLayout) -> Self {
+        match layout {
+            StereoLayout::Mono => StoredEyes::Mono,
+            StereoLayout::TopBottom => StoredEyes::TopBottom,
+        }
+    }
+}
 
 /// Which eyes a file stores.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

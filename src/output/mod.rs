@@ -29,7 +29,7 @@ pub mod xmp;
 
 pub use anaglyph::{AnaglyphMethod, anaglyph, write_anaglyph};
 pub use atomic::{StagedFile, remove_staged_files, write_atomically};
-pub use description::{ImageDescription, StoredEyes, read_description};
+pub use description::{ImageDescription, StereoLayout, StoredEyes, read_description};
 pub use error::OutputError;
 pub use exr::{ExrContent, ExrViews, read_exr};
 pub use format::ImageFormat;

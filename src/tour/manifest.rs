@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::poses::Pose;
+pub use crate::output::StereoLayout;
 use crate::output::{OutputError, write_atomically};
 
 /// The manifest's file name inside a tour's folder.
@@ -14,16 +15,6 @@ pub const MANIFEST_NAME: &str = "tour.json";
 
 /// Version of the manifest's layout.
 pub const MANIFEST_VERSION: u32 = 1;
-
-/// How a frame file holds its eyes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum StereoLayout {
-    /// One panorama.
-    Mono,
-    /// Left eye on top, right eye below (DESIGN §6).
-    TopBottom,
-}
 
 /// One frame of the tour.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

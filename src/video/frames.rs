@@ -10,26 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use super::VideoError;
+pub use crate::output::StereoLayout;
 use crate::output::read_description;
-
-/// How the frames hold the eyes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StereoLayout {
-    /// One equirectangular panorama per frame (2:1).
-    Mono,
-    /// An ODS pair per frame, left eye on top (1:1).
-    TopBottom,
-}
-
-impl StereoLayout {
-    /// The name the command line and reports use.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Mono => "mono",
-            Self::TopBottom => "top-bottom",
-        }
-    }
-}
 
 /// The stereo layout asked for: read from `tour.json` or the frame shape, or given.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -174,7 +174,7 @@ impl Panorama {
     /// `st3d` box, or, without one, from its shape as for images.
     #[cfg(feature = "video")]
     fn from_video(path: &Path) -> Result<Self, WebError> {
-        use crate::video::StereoLayout;
+        use crate::output::StereoLayout;
         let not_video = |reason: String| WebError::NotAVideo {
             path: path.to_path_buf(),
             reason,
