@@ -9,7 +9,7 @@ mod raster_common;
 use std::sync::Mutex;
 
 use indicatif::ProgressBar;
-use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
+use omnicloud::projection::{Camera, Stereo};
 use omnicloud::raster::TimingSource;
 use omnicloud::render::{Imposter, Proxy, RenderSettings};
 
@@ -26,13 +26,6 @@ fn exact(width: u32) -> RenderSettings {
 }
 
 /// ODS with the default IPD and pole merging.
-fn ods() -> Stereo {
-    Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    }
-}
 
 #[test]
 fn frame_time_spans_every_eye_and_the_clears() {
@@ -44,7 +37,7 @@ fn frame_time_spans_every_eye_and_the_clears() {
     let mut settings = exact(2048);
     let uploaded = raster.upload(&scene, &settings).unwrap();
     let hidden = ProgressBar::hidden();
-    for stereo in [ods(), Stereo::Mono] {
+    for stereo in [Stereo::DEFAULT_ODS, Stereo::Mono] {
         settings.stereo = stereo;
         // The first two frames allocate their buffers; later ones reuse them.
         for _ in 0..2 {
@@ -82,7 +75,7 @@ fn frames_alternating_two_shapes_reuse_their_buffers_when_asked() {
     let scene = raster_common::autzen_at_centre();
     let mono = exact(256);
     let ods = RenderSettings {
-        stereo: ods(),
+        stereo: Stereo::DEFAULT_ODS,
         ..mono
     };
     let uploaded = raster.upload(&scene, &mono).unwrap();

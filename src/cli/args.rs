@@ -80,7 +80,7 @@ pub struct ViewArgs {
     #[arg(long, value_name = "none|ods|parallel|cubemap[:N]")]
     pub stereo: Option<StereoKind>,
     /// Interocular distance in metres (with --stereo ods).
-    #[arg(long, default_value = "0.064", value_parser = parse::ipd)]
+    #[arg(long, default_value_t = Stereo::DEFAULT_IPD, value_parser = parse::ipd)]
     pub ipd: f64,
     /// Pole merging at both poles (with --stereo ods): off, comfortable (marrinan:45,0,3),
     /// cycles (cycles:60,75), marrinan:START,END,EXP or cycles:FROM,TO.

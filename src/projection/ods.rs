@@ -6,7 +6,7 @@ use super::camera::{Basis, Camera};
 use super::depth_map::DepthMap;
 use super::equirect::{self, Equirect};
 use super::image::{Image, Projection};
-use super::pole_merge::PoleMerging;
+use super::pole_merge::{PoleMerge, PoleMerging};
 
 /// Which eye of an ODS pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -114,7 +114,7 @@ pub enum Stereo {
     Mono,
     /// An ODS pair.
     Ods {
-        /// Interocular distance, metres (default 0.064).
+        /// Interocular distance, metres ([`Stereo::DEFAULT_IPD`]).
         ipd: f64,
         /// Pole-merge profiles.
         merging: PoleMerging,
@@ -137,6 +137,17 @@ pub enum Stereo {
 }
 
 impl Stereo {
+    /// The interocular distance every command starts from, metres (DESIGN §3).
+    pub const DEFAULT_IPD: f64 = 0.064;
+
+    /// The ODS rig every command starts from: [`Stereo::DEFAULT_IPD`], comfortable merging at
+    /// both poles, the exact inverse.
+    pub const DEFAULT_ODS: Stereo = Stereo::Ods {
+        ipd: Stereo::DEFAULT_IPD,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    };
+
     /// Largest interocular distance accepted, metres.
     pub const MAX_IPD: f64 = 10.0;
 
@@ -482,7 +493,6 @@ impl View {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::projection::PoleMerge;
 
     fn ods(merging: PoleMerging) -> Stereo {
         Stereo::Ods {

@@ -194,7 +194,7 @@ impl PoleMerging {
     };
 
     /// The same profile at both poles.
-    pub fn both(profile: PoleMerge) -> Self {
+    pub const fn both(profile: PoleMerge) -> Self {
         PoleMerging {
             north: profile,
             south: profile,

@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use glam::DVec3;
 
-use crate::projection::{Camera, equirect};
+use crate::projection::{Camera, Stereo, equirect};
 use crate::scene::{Attributes, Radii, Scene};
 
 use crate::rng::SplitMix64;
@@ -190,7 +190,7 @@ fn view(
         name: name.to_string(),
         description: description.to_string(),
         stereo,
-        ipd: 0.064,
+        ipd: Stereo::DEFAULT_IPD,
         pole_merge_north: merge.0.to_string(),
         pole_merge_south: merge.1.to_string(),
         width: SUITE_WIDTH,
@@ -534,7 +534,7 @@ mod tests {
     fn inside_circle_spheres_are_unprojectable_for_both_eyes() {
         let s = inside_circle();
         let stereo = Stereo::Ods {
-            ipd: 0.064,
+            ipd: Stereo::DEFAULT_IPD,
             merging: PoleMerging::OFF,
             offset: OdsOffset::Exact,
         };

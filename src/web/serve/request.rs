@@ -14,9 +14,6 @@ pub const RENDER_KEYS: [&str; 7] = ["x", "y", "ipd", "north", "south", "seq", "c
 /// Longest `client` name.
 const MAX_CLIENT: usize = 64;
 
-/// Default interocular distance, metres (DESIGN §3).
-pub const DEFAULT_IPD: f64 = 0.064;
-
 /// One render asked for: where the camera stands (file XY; its height comes from the ground
 /// there) and the stereo settings.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,7 +49,7 @@ impl RenderRequest {
     pub fn parse(query: &str, limits: &CameraLimits) -> Result<Self, String> {
         let mut request = RenderRequest {
             xy: limits.default,
-            ipd: DEFAULT_IPD,
+            ipd: Stereo::DEFAULT_IPD,
             merging: PoleMerging::both(PoleMerge::COMFORTABLE),
             seq: 0,
             client: String::new(),
@@ -145,7 +142,7 @@ mod tests {
         assert_eq!((r.seq, r.client.as_str()), (42, "tab-7"));
         let d = RenderRequest::parse("", &LIMITS).unwrap();
         assert_eq!(d.xy, LIMITS.default);
-        assert_eq!((d.ipd, d.seq), (DEFAULT_IPD, 0));
+        assert_eq!((d.ipd, d.seq), (Stereo::DEFAULT_IPD, 0));
         assert_eq!(d.merging, PoleMerging::both(PoleMerge::COMFORTABLE));
     }
 

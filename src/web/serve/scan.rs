@@ -9,13 +9,13 @@ use serde::Serialize;
 use crate::frame::Frame;
 use crate::output::png::encode_png;
 use crate::prepare::placement::{EYE_HEIGHT, ground_camera_position};
-use crate::projection::PoleMerge;
+use crate::projection::{PoleMerge, Stereo};
 use crate::render::{ColorMode, Shading};
 use crate::scene::Scene;
 
 use super::ServeError;
 use super::map::{MapGrid, render_map};
-use super::request::{CameraLimits, DEFAULT_IPD};
+use super::request::CameraLimits;
 
 /// How a scan is served; fixed when the server starts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -124,7 +124,7 @@ impl LiveScan {
             camera: default.to_array(),
             height: options.height,
             width: options.width,
-            ipd: DEFAULT_IPD,
+            ipd: Stereo::DEFAULT_IPD,
             pole_merge: PoleMerge::COMFORTABLE.to_string(),
         };
         let mut scan = LiveScan {
