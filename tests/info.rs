@@ -105,6 +105,15 @@ fn the_sample_shows_its_crs_and_stats() {
         text.contains("crs:           NAD_1983_HARN_Lambert_Conformal_Conic"),
         "{text}"
     );
+    // Autzen's WKT gives feet (UNIT["foot",0.3048]): sizes say so.
+    assert!(
+        text.contains("units:         x, y in foot (0.3048 m); z not declared"),
+        "{text}"
+    );
+    assert!(
+        text.contains("(size 1177.460 x 562.700 x 114.250 ft)"),
+        "{text}"
+    );
     assert!(
         !text.contains("classes:"),
         "no point pass without --stats: {text}"
@@ -190,6 +199,14 @@ fn a_wkt_crs_is_printed_by_name_with_its_epsg_code() {
     assert_eq!(v["crs"]["epsg"], 32610);
     assert_eq!(v["crs"]["source"], "wkt");
     assert_eq!(v["crs"]["wkt"], wkt);
+    assert_eq!(v["crs"]["units"]["across"], "metre");
+    assert_eq!(v["crs"]["units"]["across_metres"], 1.0);
+    assert!(v["crs"]["units"]["up"].is_null());
+    assert!(
+        text.contains("units:         x, y in metre; z not declared"),
+        "{text}"
+    );
+    assert!(text.contains("(size 9.000 x 0.000 x 0.000 m)"), "{text}");
     assert_eq!(v["version"], "1.4");
     assert_eq!(v["point_count"], 10);
 }
@@ -240,4 +257,68 @@ fn header_mode_reads_no_point_and_stats_report_truncation() {
     let e = v["stats_error"].as_str().unwrap();
     assert!(e.contains("truncated or corrupt"), "{e}");
     assert!(v["stats"].is_null());
+}
+
+#[test]
+fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/las/1_4_w_evlr.laz");
+    let out = omnicloud(&["info", shared.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{out:?}");
+    assert!(
+        text.contains("units:         x, y in US survey foot (0.30480061 m); z not declared"),
+        "{text}"
+    );
+    assert!(text.contains("x 6.320 ftUS)"), "{text}");
+    let v = json_of(&omnicloud(&["info", "--json", shared.to_str().unwrap()]));
+    let per_unit = v["crs"]["units"]["across_metres"].as_f64().unwrap();
+    assert!((per_unit - 1200.0 / 3937.0).abs() < 1e-15, "{per_unit}");
+
+    // The note comes before the render, whichever renderer; a metric file has none.
+    let dir = tempfile::tempdir().unwrap();
+    let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+    let note = "note: ";
+    let out = dir.path().join("a.png");
+    let render = omnicloud(&[
+        "render",
+        autzen.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--renderer",
+        "raytrace",
+    ]);
+    let stderr = String::from_utf8_lossy(&render.stderr);
+    assert!(render.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!(
+            "{note}{}: its coordinate system gives x and y in foot (0.3048 m), and omnicloud reads \
+             coordinates as metres: --ipd, --height, --radius and --max-distance are in foot here, \
+             so the default rig is 3.28 times too small for the scene; for a life-size view give \
+             --ipd 0.210 --height 5.58",
+            autzen.display()
+        )),
+        "{stderr}"
+    );
+    let utm = dir.path().join("utm.las");
+    write_las_with_wkt(
+        &utm,
+        r#"PROJCS["WGS 84 / UTM zone 10N",GEOGCS["WGS 84",UNIT["degree",0.0174532925199433]],UNIT["metre",1]]"#,
+    );
+    let render = omnicloud(&[
+        "render",
+        utm.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--width",
+        "64",
+        "--renderer",
+        "raytrace",
+        "--camera",
+        "1004.5,2000,11.7",
+    ]);
+    let stderr = String::from_utf8_lossy(&render.stderr);
+    assert!(render.status.success(), "{stderr}");
+    assert!(!stderr.contains(note), "{stderr}");
 }

@@ -350,7 +350,7 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
     };
     assert!(
         lines[0]
-            .contains("autzen_trim.laz (110000 points, radius adaptive:8 (median 1.2154 m), map 128x62, ODS 256x256"),
+            .contains("autzen_trim.laz (110000 points, radius adaptive:8 (median 1.2154 ft), map 128x62, ODS 256x256"),
         "{lines:?}"
     );
     let addr: SocketAddr = url.parse().unwrap();

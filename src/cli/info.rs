@@ -45,10 +45,11 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         if let (false, Some(copc)) = (args.json, &copc) {
             match copc {
                 Ok(o) => println!(
-                    "copc:          octree of depth {}, {} nodes with points, root spacing {:.4} m",
+                    "copc:          octree of depth {}, {} nodes with points, root spacing {:.4} {}",
                     o.depth(),
                     o.nonempty_nodes(),
-                    o.spacing
+                    o.spacing,
+                    info.length_symbol()
                 ),
                 Err(e) => println!("copc:          {e}"),
             }
@@ -85,8 +86,9 @@ pub fn run(args: &InfoArgs) -> Result<()> {
             println!("{stats}");
             match spacing {
                 Some(s) => println!(
-                    "spacing:       {s:.4} m median nearest-neighbour (auto radius {:.4} m)",
-                    radius::radius_for_spacing(Some(*s))
+                    "spacing:       {s:.4} {unit} median nearest-neighbour (auto radius {:.4} {unit})",
+                    radius::radius_for_spacing(Some(*s)),
+                    unit = info.length_symbol()
                 ),
                 None => println!("spacing:       n/a (fewer than two distinct points)"),
             }

@@ -60,6 +60,9 @@ pub fn error_message(error: &anyhow::Error) -> String {
 
 /// Warns, through `say`, of points loading dropped for NaN/inf coordinates.
 fn warn_dropped(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
+    if let Some(note) = crate::prepare::units_note(&report.info) {
+        say(format!("note: {note}"));
+    }
     if report.dropped_nonfinite > 0 {
         say(format!(
             "warning: dropped {} points with NaN/inf coordinates from {}",

@@ -91,6 +91,11 @@ pub(super) fn rasterize(
             args.inputs_name()
         ));
     }
+    let info = crate::io::read_info(&args.file)?;
+    if let Some(note) = crate::prepare::units_note(&info) {
+        say(format!("note: {note}"));
+    }
+    let unit = info.length_symbol();
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
         args.inputs_name(),
@@ -98,9 +103,9 @@ pub(super) fn rasterize(
         if plan.keep_file_radii {
             "per point".to_string()
         } else if let Some(k) = plan.adaptive {
-            format!("adaptive:{k} (median {:.4} m)", plan.radius)
+            format!("adaptive:{k} (median {:.4} {unit})", plan.radius)
         } else {
-            format!("{:.4} m", plan.radius)
+            format!("{:.4} {unit}", plan.radius)
         },
         plan.camera.x,
         plan.camera.y,

@@ -84,10 +84,11 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     let prepared = prepare(&args.file, &options, &pb)?;
     pb.finish_and_clear();
     super::warn_dropped(&args.file, &prepared.report, &|m| eprintln!("{m}"));
+    let unit = prepared.report.info.length_symbol();
     let radius = match (&prepared.scene.radii, prepared.radii.adaptive) {
-        (Radii::Uniform(r), _) => format!("{r:.4} m"),
+        (Radii::Uniform(r), _) => format!("{r:.4} {unit}"),
         (Radii::PerPoint(_), Some(k)) => {
-            format!("adaptive:{k} (median {:.4} m)", prepared.radii.radius)
+            format!("adaptive:{k} (median {:.4} {unit})", prepared.radii.radius)
         }
         (Radii::PerPoint(_), None) => "per point".to_string(),
     };

@@ -7,6 +7,8 @@ use serde_json::{Value, json};
 use std::fmt;
 use std::path::PathBuf;
 
+use super::units::{Across, CrsUnits};
+
 /// File format and its variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Format {
@@ -153,6 +155,8 @@ pub struct Crs {
     pub vertical_epsg: Option<u32>,
     /// The WKT text (WKT source only).
     pub wkt: Option<String>,
+    /// The units of x, y and z it declares.
+    pub units: CrsUnits,
 }
 
 /// One GeoTIFF key's value, as [`Crs::from_geotiff_keys`] reads it.
@@ -168,13 +172,14 @@ pub enum GeoKey {
 
 /// A parsed WKT node: `KEYWORD[arg, arg, ...]`.
 #[derive(Debug, Clone, PartialEq)]
-struct WktNode {
-    keyword: String,
-    args: Vec<WktArg>,
+pub(super) struct WktNode {
+    pub(super) keyword: String,
+    pub(super) args: Vec<WktArg>,
 }
 
+/// One argument of a WKT node: a quoted text, a bare word (a number, an enum) or a node.
 #[derive(Debug, Clone, PartialEq)]
-enum WktArg {
+pub(super) enum WktArg {
     Text(String),
     Word(String),
     Node(WktNode),
@@ -261,14 +266,14 @@ fn parse_wkt(text: &str) -> Option<WktNode> {
 }
 
 impl WktNode {
-    fn name(&self) -> Option<&str> {
+    pub(super) fn name(&self) -> Option<&str> {
         self.args.iter().find_map(|a| match a {
             WktArg::Text(t) => Some(t.as_str()),
             _ => None,
         })
     }
 
-    fn children(&self) -> impl Iterator<Item = &WktNode> {
+    pub(super) fn children(&self) -> impl Iterator<Item = &WktNode> {
         self.args.iter().filter_map(|a| match a {
             WktArg::Node(n) => Some(n),
             _ => None,
@@ -276,7 +281,7 @@ impl WktNode {
     }
 
     /// The node's own `AUTHORITY["EPSG","2992"]` (WKT1) or `ID["EPSG",2992]` (WKT2).
-    fn epsg(&self) -> Option<u32> {
+    pub(super) fn epsg(&self) -> Option<u32> {
         self.children()
             .filter(|c| c.keyword == "AUTHORITY" || c.keyword == "ID")
             .find_map(|c| match c.args.as_slice() {
@@ -290,7 +295,7 @@ impl WktNode {
 }
 
 /// WKT keywords of compound systems, and of the vertical part inside one.
-const COMPOUND: [&str; 2] = ["COMPD_CS", "COMPOUNDCRS"];
+pub(super) const COMPOUND: [&str; 2] = ["COMPD_CS", "COMPOUNDCRS"];
 const VERTICAL: [&str; 3] = ["VERT_CS", "VERTCRS", "VERTICALCRS"];
 
 impl Crs {
@@ -304,10 +309,12 @@ impl Crs {
             epsg: None,
             vertical_epsg: None,
             wkt: Some(text.to_string()),
+            units: CrsUnits::default(),
         };
         let Some(root) = parse_wkt(text) else {
             return crs;
         };
+        crs.units = CrsUnits::from_wkt(&root);
         crs.name = root.name().map(str::to_string);
         crs.epsg = root.epsg();
         if COMPOUND.contains(&root.keyword.as_str()) {
@@ -347,6 +354,10 @@ impl Crs {
             epsg: code(3072).or_else(|| code(2048)),
             vertical_epsg: code(4096),
             wkt: None,
+            units: CrsUnits::from_geotiff_keys(|id| match key(id) {
+                Some(GeoKey::Code(v)) => Some(v),
+                _ => None,
+            }),
         }
     }
 }
@@ -482,6 +493,23 @@ impl FileInfo {
         .collect()
     }
 
+    /// The symbol of the unit lengths in the file's frame are in ([`CrsUnits::size_unit`]),
+    /// `file units` when x, y and z are not in one.
+    pub fn length_symbol(&self) -> String {
+        self.units()
+            .size_unit()
+            .unwrap_or_else(|| "file units".into())
+    }
+
+    /// The units the file's coordinate system declares (none known without one).
+    pub fn units(&self) -> CrsUnits {
+        self.las
+            .as_ref()
+            .and_then(|l| l.crs.as_ref())
+            .map(|c| c.units.clone())
+            .unwrap_or_default()
+    }
+
     /// True when the file's bytes hold fewer point records than the header declares.
     pub fn is_truncated(&self) -> bool {
         self.records_in_file.is_some_and(|n| n < self.point_count)
@@ -522,6 +550,7 @@ impl FileInfo {
                 "epsg": c.epsg,
                 "vertical_epsg": c.vertical_epsg,
                 "wkt": c.wkt,
+                "units": units_json(&c.units),
             })),
             "attributes": self.attribute_names(),
             "color_depth": match self.color_depth {
@@ -546,6 +575,22 @@ impl FileInfo {
             "ignored_properties": self.ignored_properties,
         })
     }
+}
+
+/// `{"across": "foot", "across_metres": 0.3048, "up": null, "up_metres": null}`; `across`
+/// is `"degrees"` for a geographic system.
+fn units_json(units: &CrsUnits) -> Value {
+    let (across, across_metres) = match &units.across {
+        Across::Unknown => (None, None),
+        Across::Linear(u) => (Some(u.name.as_str()), Some(u.metres)),
+        Across::Degrees => (Some("degrees"), None),
+    };
+    json!({
+        "across": across,
+        "across_metres": across_metres,
+        "up": units.up.as_ref().map(|u| u.name.as_str()),
+        "up_metres": units.up.as_ref().map(|u| u.metres),
+    })
 }
 
 impl fmt::Display for FileInfo {
@@ -573,9 +618,10 @@ impl fmt::Display for FileInfo {
         match self.bounds {
             Some((lo, hi)) => {
                 let size = hi - lo;
+                let unit = self.length_symbol();
                 writeln!(
                     f,
-                    "bounds:        x {:.3} .. {:.3}, y {:.3} .. {:.3}, z {:.3} .. {:.3} (size {:.3} x {:.3} x {:.3} m)",
+                    "bounds:        x {:.3} .. {:.3}, y {:.3} .. {:.3}, z {:.3} .. {:.3} (size {:.3} x {:.3} x {:.3} {unit})",
                     lo.x, hi.x, lo.y, hi.y, lo.z, hi.z, size.x, size.y, size.z
                 )?;
             }
@@ -598,7 +644,10 @@ impl fmt::Display for FileInfo {
                 short(o.z)
             )?;
             match &l.crs {
-                Some(crs) => writeln!(f, "crs:           {crs}")?,
+                Some(crs) => {
+                    writeln!(f, "crs:           {crs}")?;
+                    writeln!(f, "units:         {}", crs.units)?;
+                }
                 None => writeln!(f, "crs:           none declared")?,
             }
         }

@@ -275,6 +275,7 @@ fn crs(header: &las::Header) -> Option<Crs> {
         crs.epsg = crs.epsg.or(g.epsg);
         crs.vertical_epsg = crs.vertical_epsg.or(g.vertical_epsg);
         crs.name = crs.name.or(g.name);
+        crs.units = crs.units.or(g.units);
     }
     Some(crs)
 }

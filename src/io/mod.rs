@@ -17,6 +17,7 @@ mod las;
 mod load;
 mod ply;
 mod stats;
+mod units;
 
 pub use chunk::{ColorScale, PointChunk};
 pub use copc::{NodeKey, Octree, is_copc, open_nodes, read_octree};
@@ -31,6 +32,7 @@ pub use load::{
 };
 pub(crate) use load::{MAX_HEADER_EXTENT, header_extent, usable};
 pub use stats::{PointStats, point_stats};
+pub use units::{Across, CrsUnits, LinearUnit};
 
 pub(crate) use chunk::{RawChunk, RawRgb};
 use std::collections::VecDeque;

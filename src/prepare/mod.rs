@@ -84,6 +84,26 @@ pub enum PrepareError {
     Filter(#[from] FilterError),
 }
 
+/// A note for renders of a file whose coordinate system puts x and y in a unit of length
+/// other than the metre (`info`'s): coordinates are read as metres, so the rig (`--ipd`,
+/// `--height`) and the other lengths are taken in that unit; it says what to give for a
+/// life-size view. `None` for metres, degrees or no declared unit.
+pub fn units_note(info: &crate::io::FileInfo) -> Option<String> {
+    let units = info.units();
+    let unit = units.non_metric_across()?;
+    let per_metre = 1.0 / unit.metres;
+    Some(format!(
+        "{}: its coordinate system gives x and y in {unit}, and omnicloud reads coordinates as \
+         metres: --ipd, --height, --radius and --max-distance are in {} here, so the default \
+         rig is {per_metre:.2} times too small for the scene; for a life-size view give --ipd \
+         {:.3} --height {:.2}",
+        info.path.display(),
+        unit.name,
+        crate::projection::Stereo::DEFAULT_IPD * per_metre,
+        placement::EYE_HEIGHT * per_metre,
+    ))
+}
+
 /// Loads `path`, places the camera (given, or automatic), moves the local zero onto the
 /// camera (or onto [`PrepareOptions::origin`]), applies the filters and sizes the spheres by
 /// the radius rule. `progress` counts the point records read.
