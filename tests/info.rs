@@ -294,9 +294,9 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
     assert!(
         stderr.contains(&format!(
             "{note}{}: its coordinate system gives x and y in foot (0.3048 m), and omnicloud reads \
-             coordinates as metres: --ipd, --height, --radius and --max-distance are in foot here, \
-             so the default rig is 3.28 times too small for the scene; for a life-size view give \
-             --ipd 0.210 --height 5.58",
+             coordinates as metres: every length it takes (--ipd, --height, --radius, \
+             --max-distance, a tour's --speed) is in foot here, so the default rig is 3.28 times \
+             too small for the scene; for a life-size view give --ipd 0.210 --height 5.58",
             autzen.display()
         )),
         "{stderr}"

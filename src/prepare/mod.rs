@@ -94,9 +94,9 @@ pub fn units_note(info: &crate::io::FileInfo) -> Option<String> {
     let per_metre = 1.0 / unit.metres;
     Some(format!(
         "{}: its coordinate system gives x and y in {unit}, and omnicloud reads coordinates as \
-         metres: --ipd, --height, --radius and --max-distance are in {} here, so the default \
-         rig is {per_metre:.2} times too small for the scene; for a life-size view give --ipd \
-         {:.3} --height {:.2}",
+         metres: every length it takes (--ipd, --height, --radius, --max-distance, a tour's \
+         --speed) is in {} here, so the default rig is {per_metre:.2} times too small for the \
+         scene; for a life-size view give --ipd {:.3} --height {:.2}",
         info.path.display(),
         unit.name,
         crate::projection::Stereo::DEFAULT_IPD * per_metre,
