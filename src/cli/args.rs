@@ -218,18 +218,12 @@ pub struct RenderArgs {
     /// JPEG quality (for .jpg and .vr.jpg outputs).
     #[arg(long, default_value = "90", value_parser = clap::value_parser!(u8).range(1..=100))]
     pub quality: u8,
-    /// Image width per eye; the height is half of it.
-    #[arg(long, default_value = "3840", value_parser = parse::width)]
-    pub width: u32,
+    /// Image width, colour, shading, renderer and rasterizer modes.
+    #[command(flatten)]
+    pub draw: DrawArgs,
     /// Scene, camera and stereo.
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Point colour (auto: rgb when present, else elevation).
-    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
-    pub color: ColorMode,
-    /// Shading.
-    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
-    pub shading: Shading,
     /// Also write the distance along each ray to this EXR file (Z channel, +inf background).
     #[arg(long, value_name = "OUT.exr")]
     pub depth: Option<PathBuf>,
@@ -251,15 +245,6 @@ pub struct RenderArgs {
     /// Write one file per eye (NAME_left.EXT, NAME_right.EXT) instead of top-bottom.
     #[arg(long)]
     pub separate_eyes: bool,
-    /// Renderer.
-    #[arg(long, value_enum, ignore_case = true, default_value = "raster")]
-    pub renderer: RendererKind,
-    /// Rasterizer proxy geometry: quad, static:N, dynamic, bounds.
-    #[arg(long, default_value = "bounds")]
-    pub proxy: Proxy,
-    /// Rasterizer fragments.
-    #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
-    pub imposter: Imposter,
     /// No progress bars or summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -309,7 +294,7 @@ impl RenderArgs {
 
     /// Width the renderer draws per eye: `--width` times `--supersample`.
     pub fn render_width(&self) -> u32 {
-        self.width.saturating_mul(self.look.supersample.max(1))
+        self.draw.width.saturating_mul(self.look.supersample.max(1))
     }
 
     /// Every input file, the first first.
@@ -329,6 +314,51 @@ impl RenderArgs {
                 if n == 1 { "" } else { "s" }
             ),
         }
+    }
+}
+
+/// The image and how it is drawn, shared by `render` and `tour`: width, colour, shading,
+/// renderer and the rasterizer's modes.
+#[derive(Debug, Args)]
+pub struct DrawArgs {
+    /// Image width per eye; the height is half of it.
+    #[arg(long, default_value = "3840", value_parser = parse::width)]
+    pub width: u32,
+    /// Point colour (auto: rgb when present, else elevation).
+    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
+    pub color: ColorMode,
+    /// Shading.
+    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
+    pub shading: Shading,
+    /// Renderer.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raster")]
+    pub renderer: RendererKind,
+    /// Rasterizer proxy geometry: quad, static:N, dynamic, bounds.
+    #[arg(long, default_value = "bounds")]
+    pub proxy: Proxy,
+    /// Rasterizer fragments.
+    #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
+    pub imposter: Imposter,
+}
+
+impl DrawArgs {
+    /// The render settings of `image` seen by `camera` under `view`'s stereo and depth map.
+    pub fn settings(
+        &self,
+        view: &ViewArgs,
+        image: crate::projection::Image,
+        camera: crate::projection::Camera,
+    ) -> anyhow::Result<crate::render::RenderSettings> {
+        Ok(crate::render::RenderSettings {
+            image,
+            camera,
+            stereo: view.stereo_mode().unwrap_or(Stereo::Mono),
+            color: self.color,
+            shading: self.shading,
+            proxy: self.proxy,
+            imposter: self.imposter,
+            depth_map: view.depth_map()?,
+        })
     }
 }
 
@@ -524,7 +554,7 @@ mod tests {
             Some(CameraChoice::At(DVec3::new(-637000.5, 851000.0, 12.0)))
         );
         assert_eq!(r.view.yaw, -30.0);
-        assert_eq!(r.proxy, Proxy::Static(16));
+        assert_eq!(r.draw.proxy, Proxy::Static(16));
         assert_eq!(r.view.pole_merge_south, Some(PoleMerge::Off));
         assert_eq!(r.view.radius, Some(RadiusChoice::Auto));
         assert_eq!(
@@ -538,8 +568,11 @@ mod tests {
                 offset: OdsOffset::Paper
             })
         );
-        assert_eq!(r.renderer, RendererKind::Raytrace);
-        assert_eq!((r.color, r.shading), (ColorMode::Elevation, Shading::Phong));
+        assert_eq!(r.draw.renderer, RendererKind::Raytrace);
+        assert_eq!(
+            (r.draw.color, r.draw.shading),
+            (ColorMode::Elevation, Shading::Phong)
+        );
         assert_eq!(r.quality, 75);
         assert!(r.quiet);
         for bad in ["0", "101"] {
@@ -648,7 +681,10 @@ mod tests {
         else {
             panic!("not render")
         };
-        assert_eq!((r.renderer, r.view.up), (RendererKind::Raytrace, Up::Y));
+        assert_eq!(
+            (r.draw.renderer, r.view.up),
+            (RendererKind::Raytrace, Up::Y)
+        );
         assert_eq!(r.view.stereo_mode(), None);
         let e = Cli::try_parse_from([
             "omnicloud",

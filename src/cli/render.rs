@@ -12,7 +12,7 @@ use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{
     CameraChoice, FilterCounts, PrepareOptions, Prepared, prepare_files, subsample,
 };
-use crate::projection::{Image, Stereo};
+use crate::projection::Image;
 use crate::render::{RenderSettings, RendererKind};
 use crate::scene::Radii;
 use crate::tour::Resident;
@@ -78,11 +78,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let out_image = if map {
         None
     } else {
-        Some(Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?)
+        Some(
+            Image::new(args.view.projection, args.draw.width)
+                .map_err(|e| anyhow!("--width: {e}"))?,
+        )
     };
     let image = match &out_image {
         Some(out) => look.render_image(out)?,
-        None => Image::equirect(args.width),
+        None => Image::equirect(args.draw.width),
     };
     let say = |msg: String| {
         if !args.quiet {
@@ -95,19 +98,12 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         warn_mixed_crs(args, &say)?;
     }
 
-    let settings = RenderSettings {
-        image,
-        // Scenes are centred on the camera: it sits at the local origin.
-        camera: args.view.camera_at(DVec3::ZERO),
-        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
-        color: args.color,
-        shading: args.shading,
-        proxy: args.proxy,
-        imposter: args.imposter,
-        depth_map: args.view.depth_map()?,
-    };
+    // Scenes are centred on the camera: it sits at the local origin.
+    let settings = args
+        .draw
+        .settings(&args.view, image, args.view.camera_at(DVec3::ZERO))?;
     let render_start = Instant::now();
-    let rendered = match (args.origin, args.renderer) {
+    let rendered = match (args.origin, args.draw.renderer) {
         _ if map => render_map(args, &settings, &look, &say)?,
         (Some(origin), _) => render_resident(args, origin, &settings, &say)?,
         (None, RendererKind::Raytrace) => ray_trace(args, &settings, &say)?,
@@ -275,7 +271,7 @@ fn render_resident(
         camera: args.view.camera_at(prepared.camera_world - origin),
         ..*settings
     };
-    let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
+    let resident = Resident::new(&prepared.scene, args.draw.renderer, &settings)?;
     say(format!(
         "{}: camera at ({}, {}, {}) in the frame of origin ({}, {}, {}); {}",
         args.inputs_name(),
@@ -299,7 +295,7 @@ fn render_map(
     say: &impl Fn(String),
 ) -> Result<Rendered> {
     let prepared = load_whole(args, args.origin, say)?;
-    let map = crate::prepare::map_extent::map_image(&prepared.scene, args.width)
+    let map = crate::prepare::map_extent::map_image(&prepared.scene, args.draw.width)
         .map_err(|e| anyhow!("{}: {e}", args.inputs_name()))?;
     if let crate::projection::Projection::Map(Some(f)) = map.projection {
         let o = prepared.scene.origin;
@@ -320,7 +316,7 @@ fn render_map(
         image: look.render_image(&map)?,
         ..*settings
     };
-    let resident = Resident::new(&prepared.scene, args.renderer, &settings)?;
+    let resident = Resident::new(&prepared.scene, args.draw.renderer, &settings)?;
     Ok(resident.render(&settings, &ProgressBar::hidden())?)
 }
 

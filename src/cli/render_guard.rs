@@ -21,7 +21,7 @@ fn cap(args: &RenderArgs) -> Option<(u64, bool)> {
 /// estimated peak exceeds the cap. With `--subsample auto` the kept count is not known yet:
 /// only the loading part is checked here, the rest by [`check_memory_after_subsample`].
 pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
-    if args.renderer != RendererKind::Raytrace {
+    if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
     let Some((cap, is_default)) = cap(args) else {
@@ -61,13 +61,13 @@ fn reads_copc_selection(args: &RenderArgs) -> Result<bool> {
 /// After a level-of-detail read of `read` points, checks the tracer's estimate for them
 /// (`kept` of them after `--subsample`).
 pub(super) fn check_memory_after_selection(args: &RenderArgs, read: u64, kept: u64) -> Result<()> {
-    if args.renderer != RendererKind::Raytrace {
+    if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
     let Some((cap, is_default)) = cap(args) else {
         return Ok(());
     };
-    let estimate = memory::raytrace_estimate(read, kept, args.width, args.view.eyes());
+    let estimate = memory::raytrace_estimate(read, kept, args.draw.width, args.view.eyes());
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
 }
@@ -83,7 +83,7 @@ fn inputs_info(args: &RenderArgs) -> Result<crate::io::FileInfo> {
 
 /// After `--subsample`, checks the tracer's part for the points actually kept.
 pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Scene) -> Result<()> {
-    if args.renderer != RendererKind::Raytrace {
+    if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
     let Some((cap, is_default)) = cap(args) else {

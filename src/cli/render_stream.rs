@@ -63,7 +63,7 @@ pub(super) fn rasterize(
     let started = Instant::now();
     let options = PlanOptions {
         prepare: args.prepare_options(),
-        color: args.color,
+        color: args.draw.color,
         ..PlanOptions::default()
     };
     // The GPU device and the pipelines of these settings are set up on another thread while

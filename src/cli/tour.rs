@@ -9,14 +9,14 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 
 use crate::memory;
-use crate::projection::{Image, Stereo, StereoKind};
-use crate::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
+use crate::projection::{Image, StereoKind};
+use crate::render::{Proxy, RendererKind};
 use crate::tour::{
     self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
 };
 
-use super::args::{LookArgs, ViewArgs};
-use super::{parse, progress};
+use super::args::{DrawArgs, LookArgs, ViewArgs};
+use super::progress;
 
 /// Options of `omnicloud tour`.
 #[derive(Debug, Args)]
@@ -68,28 +68,13 @@ pub struct TourArgs {
     /// Number of shards for `--shard auto` under Kubernetes or GNU parallel.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     pub shards: Option<u32>,
-    /// Image width per eye; the height is half of it.
-    #[arg(long, default_value = "3840", value_parser = parse::width)]
-    pub width: u32,
+    /// Image width, colour, shading, renderer and rasterizer modes.
+    #[command(flatten)]
+    pub draw: DrawArgs,
     /// Scene and stereo (--camera is refused: the path places the camera; --yaw is added to
     /// every frame's heading).
     #[command(flatten)]
     pub view: ViewArgs,
-    /// Point colour (auto: rgb when present, else elevation).
-    #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
-    pub color: ColorMode,
-    /// Shading.
-    #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
-    pub shading: Shading,
-    /// Renderer.
-    #[arg(long, value_enum, ignore_case = true, default_value = "raster")]
-    pub renderer: RendererKind,
-    /// Rasterizer proxy geometry: quad, static:N, dynamic, bounds.
-    #[arg(long, default_value = "bounds")]
-    pub proxy: Proxy,
-    /// Rasterizer fragments.
-    #[arg(long, value_enum, ignore_case = true, default_value = "raycast")]
-    pub imposter: Imposter,
     /// Eye-dome lighting, supersampling, background (as `render` takes them).
     #[command(flatten)]
     pub look: LookArgs,
@@ -148,7 +133,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
         bail!("a tour looks around from each pose: --projection map has no camera to move");
     }
     let image =
-        Image::new(args.view.projection, args.width).map_err(|e| anyhow!("--width: {e}"))?;
+        Image::new(args.view.projection, args.draw.width).map_err(|e| anyhow!("--width: {e}"))?;
     args.look.look().render_image(&image)?;
     let shard = match args.shard {
         None => Shard::ALL,
@@ -203,16 +188,11 @@ pub fn run(args: &TourArgs) -> Result<()> {
 
     std::fs::create_dir_all(&args.output)
         .with_context(|| format!("creating the output folder {}", args.output.display()))?;
-    let settings = RenderSettings {
+    let settings = args.draw.settings(
+        &args.view,
         image,
-        camera: crate::projection::Camera::new(glam::DVec3::ZERO, 0.0),
-        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
-        color: args.color,
-        shading: args.shading,
-        proxy: args.proxy,
-        imposter: args.imposter,
-        depth_map: args.view.depth_map()?,
-    };
+        crate::projection::Camera::new(glam::DVec3::ZERO, 0.0),
+    )?;
     let options = RunOptions {
         settings,
         dir: args.output.clone(),
@@ -251,7 +231,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
         return encode_video(args, &say);
     }
 
-    let resident = Resident::new(&planned.scene, args.renderer, &settings)
+    let resident = Resident::new(&planned.scene, args.draw.renderer, &settings)
         .with_context(|| format!("keeping {} resident for the tour", args.file.display()))?;
     if resident.is_streamed() {
         // A warning, shown even with --quiet: every frame now re-sends the points.
@@ -314,9 +294,9 @@ fn check_video(args: &TourArgs) -> Result<()> {
             out.display()
         );
     }
-    let height = args.width / 2 * args.view.eyes();
-    crate::video::level::level_for(args.width, height, args.fps, 0)
-        .with_context(|| format!("--video {} at --width {}", out.display(), args.width))?;
+    let height = args.draw.width / 2 * args.view.eyes();
+    crate::video::level::level_for(args.draw.width, height, args.fps, 0)
+        .with_context(|| format!("--video {} at --width {}", out.display(), args.draw.width))?;
     Ok(())
 }
 
@@ -348,7 +328,7 @@ fn encode_video(args: &TourArgs, say: &impl Fn(String)) -> Result<()> {
 
 /// Refuses, before loading, a ray-traced tour whose resident scene and BVH exceed the cap.
 fn check_memory(args: &TourArgs) -> Result<()> {
-    if args.renderer != RendererKind::Raytrace {
+    if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
     let (cap, is_default) = match args.max_memory {
@@ -359,7 +339,7 @@ fn check_memory(args: &TourArgs) -> Result<()> {
         },
     };
     let info = crate::io::open(&args.file)?.info().clone();
-    let width = args.width.saturating_mul(args.look.supersample.max(1));
+    let width = args.draw.width.saturating_mul(args.look.supersample.max(1));
     let estimate = memory::raytrace_estimate_for(&info, 1, width, args.view.eyes());
     memory::check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
@@ -374,7 +354,7 @@ fn render_command(args: &TourArgs) -> Vec<String> {
         "omnicloud".into(),
         "render".into(),
         args.file.display().to_string(),
-        format!("--width={}", args.width),
+        format!("--width={}", args.draw.width),
     ];
     let stereo = args.view.stereo.unwrap_or_default();
     a.push(format!("--stereo={stereo}"));
@@ -426,21 +406,21 @@ fn render_command(args: &TourArgs) -> Vec<String> {
     a.push("--lod=off".into());
     a.push(format!(
         "--color={}",
-        name(&|| args.color.to_possible_value())
+        name(&|| args.draw.color.to_possible_value())
     ));
     a.push(format!(
         "--shading={}",
-        name(&|| args.shading.to_possible_value())
+        name(&|| args.draw.shading.to_possible_value())
     ));
     a.push(format!(
         "--renderer={}",
-        name(&|| args.renderer.to_possible_value())
+        name(&|| args.draw.renderer.to_possible_value())
     ));
-    if args.renderer == RendererKind::Raster {
-        a.push(format!("--proxy={}", proxy(args.proxy)));
+    if args.draw.renderer == RendererKind::Raster {
+        a.push(format!("--proxy={}", proxy(args.draw.proxy)));
         a.push(format!(
             "--imposter={}",
-            name(&|| args.imposter.to_possible_value())
+            name(&|| args.draw.imposter.to_possible_value())
         ));
     }
     a.extend(args.look.render_options());
@@ -543,10 +523,13 @@ mod tests {
         assert_eq!(r.view.depth_map().unwrap(), t.view.depth_map().unwrap());
         assert!(r.view.depth_map.is_some());
         assert_eq!(r.view.radius, t.view.radius);
-        assert_eq!((r.proxy, r.width, r.color), (t.proxy, 512, t.color));
         assert_eq!(
-            (r.shading, r.renderer, r.imposter),
-            (t.shading, t.renderer, t.imposter)
+            (r.draw.proxy, r.draw.width, r.draw.color),
+            (t.draw.proxy, 512, t.draw.color)
+        );
+        assert_eq!(
+            (r.draw.shading, r.draw.renderer, r.draw.imposter),
+            (t.draw.shading, t.draw.renderer, t.draw.imposter)
         );
         assert_eq!(r.view.yaw, -12.5);
     }
