@@ -279,18 +279,25 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
     let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
     let note = "note: ";
     let out = dir.path().join("a.png");
-    let render = omnicloud(&[
-        "render",
-        autzen.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "64",
-        "--renderer",
-        "raytrace",
-    ]);
-    let stderr = String::from_utf8_lossy(&render.stderr);
-    assert!(render.status.success(), "{stderr}");
+    // The render's stderr, after checking it succeeded.
+    let render = |file: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            file.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--width",
+            "64",
+            "--renderer",
+            "raytrace",
+        ];
+        args.extend(extra);
+        let run = omnicloud(&args);
+        let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
+        assert!(run.status.success(), "{stderr}");
+        stderr
+    };
+    let stderr = render(&autzen, &[]);
     assert!(
         stderr.contains(&format!(
             "{note}{}: its coordinate system gives x and y in foot (0.3048 m), and omnicloud reads \
@@ -306,19 +313,6 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
         &utm,
         r#"PROJCS["WGS 84 / UTM zone 10N",GEOGCS["WGS 84",UNIT["degree",0.0174532925199433]],UNIT["metre",1]]"#,
     );
-    let render = omnicloud(&[
-        "render",
-        utm.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--width",
-        "64",
-        "--renderer",
-        "raytrace",
-        "--camera",
-        "1004.5,2000,11.7",
-    ]);
-    let stderr = String::from_utf8_lossy(&render.stderr);
-    assert!(render.status.success(), "{stderr}");
+    let stderr = render(&utm, &["--camera", "1004.5,2000,11.7"]);
     assert!(!stderr.contains(note), "{stderr}");
 }
