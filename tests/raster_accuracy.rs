@@ -210,8 +210,23 @@ fn frames_drawn_into_reused_buffers_are_the_same() {
     for k in 0..2 {
         let (reused, _) = raster.render(&scene, &ahead, &pb).unwrap();
         assert!(fresh == reused, "frame {} in reused buffers differs", k + 3);
-        raster.render(&scene, &turned, &pb).unwrap();
+        // Handed back, the other view's frames are where the next one is read back into.
+        let (turned_frames, _) = raster.render(&scene, &turned, &pb).unwrap();
+        assert!(turned_frames == other);
+        raster.recycle(turned_frames);
     }
+    let (into_recycled, _) = raster.render(&scene, &ahead, &pb).unwrap();
+    assert!(
+        fresh == into_recycled,
+        "a frame read into recycled memory differs"
+    );
+    // Frames of another size are not read into.
+    raster.recycle(
+        raster
+            .render(&scene, &settings(Stereo::Mono), &pb)
+            .unwrap()
+            .0,
+    );
     // Another shape in between replaces the kept buffers.
     raster.render(&scene, &settings(Stereo::Mono), &pb).unwrap();
     let (last, _) = raster.render(&scene, &ahead, &pb).unwrap();

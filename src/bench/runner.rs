@@ -138,9 +138,9 @@ pub fn run_bench_with(
                 drawn
             };
             for _ in 0..config.warmup_frames {
-                frame(&s)?;
+                rasterizer.recycle(frame(&s)?.0);
                 if let Some(m) = &mono {
-                    frame(m)?;
+                    rasterizer.recycle(frame(m)?.0);
                 }
             }
             let mut times = Vec::with_capacity(config.timed_frames);
@@ -161,9 +161,15 @@ pub fn run_bench_with(
                 let (rendered, stats, timing) = frame(&s)?;
                 run_seconds += frame_start.elapsed().as_secs_f64();
                 record(&timing, &mut times);
-                first.get_or_insert((rendered, stats));
+                // Frames after the first are read back into the memory of the ones before.
+                match first {
+                    None => first = Some((rendered, stats)),
+                    Some(_) => rasterizer.recycle(rendered),
+                }
                 if let Some(m) = &mono {
-                    record(&frame(m)?.2, &mut mono_times);
+                    let (rendered, _, timing) = frame(m)?;
+                    record(&timing, &mut mono_times);
+                    rasterizer.recycle(rendered);
                 }
             }
             let (rendered, stats) = first.expect("timed_frames > 0");

@@ -184,11 +184,22 @@ impl Images {
         }
     }
 
-    /// Reads every eye back, keeping the read-back buffers for the next frame.
-    pub fn read_kept(&mut self, ctx: &GpuContext) -> Result<Vec<Frame>, RasterError> {
+    /// Reads every eye back, keeping the read-back buffers for the next frame; the keyed
+    /// path decodes into frames taken from `spare` where it holds some of the eyes' size.
+    pub fn read_kept(
+        &mut self,
+        ctx: &GpuContext,
+        spare: &Mutex<Spare>,
+    ) -> Result<Vec<Frame>, RasterError> {
         match self {
             Images::Drawn(eyes) => eyes.iter_mut().map(|t| t.read(ctx, true)).collect(),
-            Images::Keyed { eyes, .. } => eyes.iter_mut().map(|t| t.read(ctx, true)).collect(),
+            Images::Keyed { eyes, .. } => eyes
+                .iter_mut()
+                .map(|t| {
+                    let (w, h) = t.size();
+                    t.read(ctx, true, Spare::take_frame(spare, w, h))
+                })
+                .collect(),
         }
     }
 
@@ -199,7 +210,9 @@ impl Images {
             Images::Drawn(eyes) => eyes.into_iter().map(|mut t| t.read(ctx, false)).collect(),
             Images::Keyed { eyes, attachment } => {
                 drop(attachment);
-                eyes.into_iter().map(|mut t| t.read(ctx, false)).collect()
+                eyes.into_iter()
+                    .map(|mut t| t.read(ctx, false, None))
+                    .collect()
             }
         }
     }
@@ -217,6 +230,10 @@ pub struct Spare {
     kept: Vec<FrameBuffers>,
     /// Most shapes kept at once.
     shapes: usize,
+    /// Frames handed back by the caller ([`super::Rasterizer::recycle`]): a frame read back
+    /// into one of these fills memory already paged in instead of fresh pages (whose first
+    /// writes cost as much as the decode at 3840x1920 on a CPU adapter).
+    frames: Vec<Frame>,
 }
 
 impl Default for Spare {
@@ -226,6 +243,7 @@ impl Default for Spare {
             allocated: 0,
             kept: Vec::new(),
             shapes: 1,
+            frames: Vec::new(),
         }
     }
 }
@@ -285,6 +303,24 @@ impl Spare {
         s.shapes = shapes;
         s.keep_at_most(shapes);
         previous
+    }
+
+    /// Keeps `frames` for the next read-backs, up to [`MAX_EYES`] per kept shape.
+    pub fn recycle(spare: &Mutex<Spare>, frames: impl IntoIterator<Item = Frame>) {
+        let mut s = lock(spare);
+        s.frames.extend(frames);
+        let excess = s.frames.len().saturating_sub(MAX_EYES * s.shapes);
+        s.frames.drain(..excess);
+    }
+
+    /// A handed-back frame of `width x height`, if one is kept.
+    pub fn take_frame(spare: &Mutex<Spare>, width: u32, height: u32) -> Option<Frame> {
+        let mut s = lock(spare);
+        let i = s
+            .frames
+            .iter()
+            .rposition(|f| (f.width, f.height) == (width, height))?;
+        Some(s.frames.swap_remove(i))
     }
 
     /// Frees the oldest kept sets beyond the `n` most recent.

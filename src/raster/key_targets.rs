@@ -43,9 +43,20 @@ impl KeyedTargets {
         encoder.clear_buffer(&self.tiles, 0, None);
     }
 
-    /// Copies the keys back and decodes them into a [`Frame`]; `keep` keeps the read-back
-    /// buffer for the next read.
-    pub fn read(&mut self, ctx: &GpuContext, keep: bool) -> Result<Frame, RasterError> {
+    /// Width and height of the eye.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Copies the keys back and decodes them into a [`Frame`] (into `reuse`'s memory when it
+    /// has this eye's size: every pixel is written); `keep` keeps the read-back buffer for
+    /// the next read.
+    pub fn read(
+        &mut self,
+        ctx: &GpuContext,
+        keep: bool,
+        reuse: Option<Frame>,
+    ) -> Result<Frame, RasterError> {
         let readback = match self.readback.take() {
             Some(b) => b,
             None => ctx.scoped("allocating the read-back buffer", || {
@@ -64,13 +75,21 @@ impl KeyedTargets {
         let frame = map_read_with(ctx, &readback, "reading back the image", |keys| {
             // Straight from the mapped keys into the frame, on every core: at 3840x1920 the
             // decode of one eye is as long as a frame's drawing.
-            let (color, depth) = keys
-                .par_chunks_exact(8)
-                .map(|key| {
-                    let key = u64::from_le_bytes(key.try_into().expect("8 bytes"));
-                    decode_key(key).unwrap_or(([0; 4], f32::INFINITY))
-                })
-                .unzip();
+            let n = keys.len() / 8;
+            let (mut color, mut depth) = match reuse {
+                Some(f) if f.color.len() == n && f.depth.len() == n => (f.color, f.depth),
+                _ => (vec![[0u8; 4]; n], vec![0f32; n]),
+            };
+            color
+                .par_chunks_mut(DECODE_CHUNK)
+                .zip(depth.par_chunks_mut(DECODE_CHUNK))
+                .zip(keys.par_chunks(DECODE_CHUNK * 8))
+                .for_each(|((color, depth), keys)| {
+                    for ((c, d), key) in color.iter_mut().zip(depth).zip(keys.chunks_exact(8)) {
+                        let key = u64::from_le_bytes(key.try_into().expect("8 bytes"));
+                        (*c, *d) = decode_key(key).unwrap_or(([0; 4], f32::INFINITY));
+                    }
+                });
             Frame {
                 width: w,
                 height: h,
@@ -84,6 +103,9 @@ impl KeyedTargets {
         frame
     }
 }
+
+/// Pixels a task of the read-back's decode takes.
+const DECODE_CHUNK: usize = 1 << 16;
 
 /// The colour and distance a key holds (`shaders/splat_key.wgsl`); `None` for no hit.
 fn decode_key(key: u64) -> Option<([u8; 4], f32)> {

@@ -327,7 +327,7 @@ impl<'r> RasterFrame<'r> {
         })?;
         let mut buffers = self.buffers;
         let mut frames: Vec<Frame> = if self.keep {
-            let frames = buffers.images.read_kept(ctx)?;
+            let frames = buffers.images.read_kept(ctx, &self.rasterizer.spare)?;
             Spare::put(&self.rasterizer.spare, buffers);
             frames
         } else {

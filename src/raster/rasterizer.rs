@@ -18,6 +18,7 @@ use super::specialisation::Specialisation;
 use super::splat::DEFAULT_SPLAT_LIMIT;
 use super::splat_shade::ShadePipeline;
 use super::tile_resolve::ResolvePipeline;
+use crate::frame::Rendered;
 
 /// The pipelines a frame draws with, compiled for one [`Specialisation`] and path.
 pub(crate) struct Pipelines {
@@ -164,6 +165,17 @@ impl Rasterizer {
     /// afresh; returns the previous allowance. Each kept shape holds its images' memory.
     pub fn keep_frame_shapes(&self, shapes: usize) -> usize {
         Spare::set_shapes(&self.spare, shapes)
+    }
+
+    /// Hands back a render's frames once the caller is done with them: the next frames of their
+    /// size are read back into their memory. Worth it in loops over many frames; at most two
+    /// frames per kept shape ([`Rasterizer::keep_frame_shapes`]) are held.
+    pub fn recycle(&self, rendered: Rendered) {
+        let frames = match rendered {
+            Rendered::Mono(f) => vec![f],
+            Rendered::Stereo { left, right } => vec![left, right],
+        };
+        Spare::recycle(&self.spare, frames);
     }
 
     /// How many sets of frame buffers this rasterizer has allocated (public for tests, which

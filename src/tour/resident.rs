@@ -160,6 +160,18 @@ impl<'s> Resident<'s> {
         }
     }
 
+    /// Hands a frame this resident rendered back once it is written, for the next frame's
+    /// read-back to reuse its memory (rasterizers only).
+    pub fn recycle(&self, rendered: Rendered) {
+        match self {
+            #[cfg(feature = "gpu")]
+            Resident::Raster { rasterizer, .. } | Resident::Streamed { rasterizer, .. } => {
+                rasterizer.recycle(rendered)
+            }
+            Resident::Raytrace { .. } => drop(rendered),
+        }
+    }
+
     /// Renders one frame; `settings.camera.center` is in the scene's local frame.
     pub fn render(
         &self,

@@ -211,6 +211,7 @@ pub fn render_frames(
         };
         let path = options.frame_path(index);
         output::write_image_with(&path, &rendered, &out)?;
+        resident.recycle(rendered);
         let took = started.elapsed();
         report.busy += took;
         report.rendered.push(index);

@@ -232,6 +232,7 @@ impl Renderer {
             .render_uploaded(&resident.uploaded, &settings, &ProgressBar::hidden())
             .map_err(|e| failed(&e))?;
         let png = png_bytes(&rendered.top_bottom()).map_err(|e| failed(&e))?;
+        self.rasterizer.recycle(rendered);
         Ok(LiveFrame {
             png,
             camera: scan.scene.origin + camera,
