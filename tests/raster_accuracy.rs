@@ -220,17 +220,31 @@ fn frames_drawn_into_reused_buffers_are_the_same() {
         fresh == into_recycled,
         "a frame read into recycled memory differs"
     );
-    // Frames of another size are not read into.
+    // Another shape in between replaces the kept buffers; its mono frame, handed back, has
+    // an eye's size and is read into by the next frame.
     raster.recycle(
         raster
             .render(&scene, &settings(Stereo::Mono), &pb)
             .unwrap()
             .0,
     );
-    // Another shape in between replaces the kept buffers.
-    raster.render(&scene, &settings(Stereo::Mono), &pb).unwrap();
     let (last, _) = raster.render(&scene, &ahead, &pb).unwrap();
     assert!(fresh == last, "the first shape again differs");
+    // The drawn targets (billboards and sprites) read back into recycled frames too.
+    let drawn = |mut s: RenderSettings| {
+        s.proxy = Proxy::Quad;
+        s.imposter = Imposter::Sprite;
+        s
+    };
+    let (fresh_drawn, _) = raster.render(&scene, &drawn(ahead), &pb).unwrap();
+    for _ in 0..2 {
+        raster.recycle(raster.render(&scene, &drawn(turned), &pb).unwrap().0);
+        let (reused, _) = raster.render(&scene, &drawn(ahead), &pb).unwrap();
+        assert!(
+            fresh_drawn == reused,
+            "a drawn frame read into recycled memory differs"
+        );
+    }
 }
 
 #[test]

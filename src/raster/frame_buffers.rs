@@ -184,22 +184,28 @@ impl Images {
         }
     }
 
-    /// Reads every eye back, keeping the read-back buffers for the next frame; the keyed
-    /// path decodes into frames taken from `spare` where it holds some of the eyes' size.
+    /// Reads every eye back, keeping the read-back buffers for the next frame; each eye is
+    /// decoded into a frame taken from `spare` where it holds one of the eye's size.
     pub fn read_kept(
         &mut self,
         ctx: &GpuContext,
         spare: &Mutex<Spare>,
     ) -> Result<Vec<Frame>, RasterError> {
-        match self {
-            Images::Drawn(eyes) => eyes.iter_mut().map(|t| t.read(ctx, true)).collect(),
-            Images::Keyed { eyes, .. } => eyes
-                .iter_mut()
+        fn read_each<E: ReadBack>(
+            eyes: &mut [E],
+            ctx: &GpuContext,
+            spare: &Mutex<Spare>,
+        ) -> Result<Vec<Frame>, RasterError> {
+            eyes.iter_mut()
                 .map(|t| {
                     let (w, h) = t.size();
                     t.read(ctx, true, Spare::take_frame(spare, w, h))
                 })
-                .collect(),
+                .collect()
+        }
+        match self {
+            Images::Drawn(eyes) => read_each(eyes, ctx, spare),
+            Images::Keyed { eyes, .. } => read_each(eyes, ctx, spare),
         }
     }
 
@@ -207,7 +213,10 @@ impl Images {
     /// reading stays near one eye's read-back.
     pub fn read_freed(self, ctx: &GpuContext) -> Result<Vec<Frame>, RasterError> {
         match self {
-            Images::Drawn(eyes) => eyes.into_iter().map(|mut t| t.read(ctx, false)).collect(),
+            Images::Drawn(eyes) => eyes
+                .into_iter()
+                .map(|mut t| t.read(ctx, false, None))
+                .collect(),
             Images::Keyed { eyes, attachment } => {
                 drop(attachment);
                 eyes.into_iter()
@@ -216,6 +225,20 @@ impl Images {
             }
         }
     }
+}
+
+/// An eye's image that reads back into a [`Frame`]: the drawn targets or the keys.
+pub trait ReadBack {
+    /// Width and height of the eye.
+    fn size(&self) -> (u32, u32);
+    /// Reads the image back into a frame (into `reuse`'s memory when it has the eye's size:
+    /// every pixel is written); `keep` keeps the read-back buffers for the next read.
+    fn read(
+        &mut self,
+        ctx: &GpuContext,
+        keep: bool,
+        reuse: Option<Frame>,
+    ) -> Result<Frame, RasterError>;
 }
 
 /// The buffers of the last finished frames, kept for the next frame of the same shape once a

@@ -8,6 +8,7 @@ use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
+use super::frame_buffers::ReadBack;
 use super::sizing::key_bytes;
 use super::splat::{key_buffer, tile_bytes};
 use super::targets::{KEYED_TARGETS, check_size, eye_texture, map_read_with};
@@ -42,16 +43,15 @@ impl KeyedTargets {
         encoder.clear_buffer(&self.keys, 0, None);
         encoder.clear_buffer(&self.tiles, 0, None);
     }
+}
 
-    /// Width and height of the eye.
-    pub fn size(&self) -> (u32, u32) {
+impl ReadBack for KeyedTargets {
+    fn size(&self) -> (u32, u32) {
         (self.width, self.height)
     }
 
-    /// Copies the keys back and decodes them into a [`Frame`] (into `reuse`'s memory when it
-    /// has this eye's size: every pixel is written); `keep` keeps the read-back buffer for
-    /// the next read.
-    pub fn read(
+    /// Copies the keys back and decodes them.
+    fn read(
         &mut self,
         ctx: &GpuContext,
         keep: bool,

@@ -1,9 +1,12 @@
 //! One eye's render targets and their read-back into a [`Frame`].
 
+use rayon::prelude::*;
+
 use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
+use super::frame_buffers::ReadBack;
 
 /// Colour target: sRGB bytes stored as they are.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -194,23 +197,6 @@ impl EyeTargets {
         })
     }
 
-    /// Copies the colour and distance textures back into a [`Frame`]; `keep` keeps the
-    /// read-back buffers for the next read.
-    pub fn read(&mut self, ctx: &GpuContext, keep: bool) -> Result<Frame, RasterError> {
-        let (w, h) = (self.width, self.height);
-        let row = padded_row(w);
-        let size = row as u64 * h as u64;
-        let buffers = match self.readback.take() {
-            Some(b) => b,
-            None => self.readback_buffers(ctx, size)?,
-        };
-        let frame = self.read_into(ctx, &buffers);
-        if keep {
-            self.readback = Some(buffers);
-        }
-        frame
-    }
-
     /// New colour and distance read-back buffers of `size` bytes.
     fn readback_buffers(
         &self,
@@ -230,11 +216,13 @@ impl EyeTargets {
         })
     }
 
-    /// Copies the textures into `(color_buf, dist_buf)` and converts them into a [`Frame`].
+    /// Copies the textures into `(color_buf, dist_buf)` and converts them into a [`Frame`]
+    /// (`reuse`'s memory, when it has the size).
     fn read_into(
         &self,
         ctx: &GpuContext,
         (color_buf, dist_buf): &(wgpu::Buffer, wgpu::Buffer),
+        reuse: Option<Frame>,
     ) -> Result<Frame, RasterError> {
         let (w, h) = (self.width, self.height);
         let row = padded_row(w);
@@ -258,25 +246,63 @@ impl EyeTargets {
             );
         }
         ctx.queue.submit([encoder.finish()]);
-        // Straight from the mapped buffers into the frame: no intermediate copy of the image.
+        // Straight from the mapped buffers into the frame, row by row on every core: no
+        // intermediate copy of the image.
         map_read_with(ctx, color_buf, "reading back colour", |color| {
             map_read_with(ctx, dist_buf, "reading back distances", |dist| {
-                let mut frame = Frame::new(w, h);
-                for j in 0..h as usize {
-                    let src = j * row as usize;
-                    for i in 0..w as usize {
-                        let k = j * w as usize + i;
-                        let c = &color[src + 4 * i..src + 4 * i + 4];
-                        if c[3] != 0 {
-                            frame.color[k] = [c[0], c[1], c[2], 255];
-                            let d = &dist[src + 4 * i..src + 4 * i + 4];
-                            frame.depth[k] = f32::from_le_bytes([d[0], d[1], d[2], d[3]]);
+                let mut frame = match reuse {
+                    Some(f) if (f.width, f.height) == (w, h) => f,
+                    _ => Frame::new(w, h),
+                };
+                let (w, row) = (w as usize, row as usize);
+                frame
+                    .color
+                    .par_chunks_mut(w)
+                    .zip(frame.depth.par_chunks_mut(w))
+                    .zip(color.par_chunks(row).zip(dist.par_chunks(row)))
+                    .for_each(|((out_c, out_d), (c_row, d_row))| {
+                        let texels = c_row.chunks_exact(4).zip(d_row.chunks_exact(4));
+                        for ((oc, od), (c, d)) in out_c.iter_mut().zip(out_d).zip(texels) {
+                            (*oc, *od) = if c[3] != 0 {
+                                (
+                                    [c[0], c[1], c[2], 255],
+                                    f32::from_le_bytes([d[0], d[1], d[2], d[3]]),
+                                )
+                            } else {
+                                ([0; 4], f32::INFINITY)
+                            };
                         }
-                    }
-                }
+                    });
                 frame
             })
         })?
+    }
+}
+
+impl ReadBack for EyeTargets {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Copies the colour and distance textures back and converts them.
+    fn read(
+        &mut self,
+        ctx: &GpuContext,
+        keep: bool,
+        reuse: Option<Frame>,
+    ) -> Result<Frame, RasterError> {
+        let (w, h) = (self.width, self.height);
+        let row = padded_row(w);
+        let size = row as u64 * h as u64;
+        let buffers = match self.readback.take() {
+            Some(b) => b,
+            None => self.readback_buffers(ctx, size)?,
+        };
+        let frame = self.read_into(ctx, &buffers, reuse);
+        if keep {
+            self.readback = Some(buffers);
+        }
+        frame
     }
 }
 
