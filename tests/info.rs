@@ -308,6 +308,10 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
         )),
         "{stderr}"
     );
+    assert!(
+        stderr.contains("radius adaptive:8 (median 1.2154 ft)"),
+        "{stderr}"
+    );
     let utm = dir.path().join("utm.las");
     write_las_with_wkt(
         &utm,

@@ -14,7 +14,6 @@ use crate::prepare::{
 };
 use crate::projection::Image;
 use crate::render::{RenderSettings, RendererKind};
-use crate::scene::Radii;
 use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};
 
@@ -331,10 +330,10 @@ fn ray_trace(
     let Prepared {
         mut scene,
         camera_world,
+        radii,
         report,
         filtered,
         lod,
-        ..
     } = prepare_files(
         &args.inputs(),
         &args.prepare_options(),
@@ -364,10 +363,7 @@ fn ray_trace(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}) loaded in {:.2?}",
         args.inputs_name(),
         scene.len(),
-        match &scene.radii {
-            Radii::Uniform(r) => format!("{r:.4} m"),
-            Radii::PerPoint(_) => "per point".to_string(),
-        },
+        radii.describe(&report.info.length_symbol()),
         camera_world.x,
         camera_world.y,
         camera_world.z,

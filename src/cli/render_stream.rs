@@ -100,13 +100,12 @@ pub(super) fn rasterize(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
         args.inputs_name(),
         plan.lod.map_or(plan.declared, |l| l.points_read),
-        if plan.keep_file_radii {
-            "per point".to_string()
-        } else if let Some(k) = plan.adaptive {
-            format!("adaptive:{k} (median {:.4} {unit})", plan.radius)
-        } else {
-            format!("{:.4} {unit}", plan.radius)
-        },
+        crate::prepare::RadiusRule {
+            radius: plan.radius,
+            keep_file_radii: plan.keep_file_radii,
+            adaptive: plan.adaptive,
+        }
+        .describe(&unit),
         plan.camera.x,
         plan.camera.y,
         plan.camera.z,

@@ -10,7 +10,6 @@ use clap::Args;
 use crate::io::Up;
 use crate::prepare::{PrepareOptions, RadiusChoice, prepare};
 use crate::render::{ColorMode, Shading};
-use crate::scene::Radii;
 use crate::web::serve::{LiveOptions, LiveScan, LiveServer};
 
 use super::{parse, progress, view};
@@ -85,13 +84,7 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     pb.finish_and_clear();
     super::warn_dropped(&args.file, &prepared.report, &|m| eprintln!("{m}"));
     let unit = prepared.report.info.length_symbol();
-    let radius = match (&prepared.scene.radii, prepared.radii.adaptive) {
-        (Radii::Uniform(r), _) => format!("{r:.4} {unit}"),
-        (Radii::PerPoint(_), Some(k)) => {
-            format!("adaptive:{k} (median {:.4} {unit})", prepared.radii.radius)
-        }
-        (Radii::PerPoint(_), None) => "per point".to_string(),
-    };
+    let radius = prepared.radii.describe(&unit);
     let live = LiveOptions {
         width: args.width,
         height: args.height,

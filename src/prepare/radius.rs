@@ -153,6 +153,18 @@ pub struct RadiusRule {
     pub adaptive: Option<usize>,
 }
 
+impl RadiusRule {
+    /// How the summaries say it, lengths in `unit`: `0.4000 ft`, `adaptive:8 (median 1.2154
+    /// ft)` or `per point` (the file's radii).
+    pub fn describe(&self, unit: &str) -> String {
+        match (self.keep_file_radii, self.adaptive) {
+            (true, _) => "per point".into(),
+            (false, Some(k)) => format!("adaptive:{k} (median {:.4} {unit})", self.radius),
+            (false, None) => format!("{:.4} {unit}", self.radius),
+        }
+    }
+}
+
 /// Sizes the spheres of a freshly loaded `scene`: a fixed radius; `auto` ([`auto_radius`]);
 /// `adaptive` ([`adaptive_radii`]); or, with no choice, the file's per-point radii when the
 /// scene has them, else `adaptive` with [`DEFAULT_K`] neighbours.
@@ -385,6 +397,21 @@ fn count_cells(points: &[Vec3], origin: Vec3, cell: f32) -> usize {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn rules_describe_themselves_in_the_files_unit() {
+        let rule = |keep_file_radii, adaptive| RadiusRule {
+            radius: 0.4,
+            keep_file_radii,
+            adaptive,
+        };
+        assert_eq!(rule(false, None).describe("ft"), "0.4000 ft");
+        assert_eq!(
+            rule(false, Some(8)).describe("m"),
+            "adaptive:8 (median 0.4000 m)"
+        );
+        assert_eq!(rule(true, None).describe("m"), "per point");
+    }
     use super::*;
     use glam::DVec3;
 
