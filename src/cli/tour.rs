@@ -173,7 +173,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
     super::warn_dropped(&args.file, &planned.load_report, &say);
     let total = planned.poses.len();
     say(format!(
-        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} m through {} keyframes: \
+        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {} through {} keyframes: \
          {total} frames (prepared in {:.2?})",
         args.file.display(),
         planned.scene.len(),
@@ -182,6 +182,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
         planned.origin.z,
         args.path.display(),
         planned.length,
+        planned.load_report.info.length_symbol(),
         planned.keyframes.len(),
         started.elapsed()
     ));
