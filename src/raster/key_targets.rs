@@ -73,8 +73,8 @@ impl ReadBack for KeyedTargets {
         ctx.queue.submit([encoder.finish()]);
         let (w, h) = (self.width, self.height);
         let frame = map_read_with(ctx, &readback, "reading back the image", |keys| {
-            // Straight from the mapped keys into the frame, on every core: at 3840x1920 the
-            // decode of one eye is as long as a frame's drawing.
+            // Straight from the mapped keys into the frame, on every core; into a handed-back
+            // frame's memory when there is one, since fresh pages cost more than the decode.
             let n = keys.len() / 8;
             let (mut color, mut depth) = match reuse {
                 Some(f) if f.color.len() == n && f.depth.len() == n => (f.color, f.depth),
