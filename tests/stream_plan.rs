@@ -265,15 +265,15 @@ fn a_surveyed_plan_agrees_with_the_in_core_path() {
     let off = planned.camera - core_camera;
     eprintln!(
         "camera off by {off:?} (extent {extent} m); radius {} vs in-core {core_radius}; elevation range {:?}",
-        planned.radius, planned.color.range
+        planned.radii.radius, planned.color.range
     );
     // XY from the header bounds: the same centre; the ground from the surveyed blocks only.
     assert!(off.truncate().length() < 0.01 * extent, "{off}");
     assert!(off.z.abs() < 0.02 * extent, "{off}");
     assert!(
-        (planned.radius / core_radius - 1.0).abs() < 0.1,
+        (planned.radii.radius / core_radius - 1.0).abs() < 0.1,
         "{} vs {core_radius}",
-        planned.radius
+        planned.radii.radius
     );
     assert_eq!(planned.color_scale, ColorScale::Full16);
     // Heights relative to each path's own camera: the ranges differ by the camera's height.
@@ -292,10 +292,10 @@ fn a_surveyed_plan_agrees_with_the_in_core_path() {
     // The LAZ copy seeks through its chunk table to the same blocks: the same plan.
     let laz = plan(&laz_path, &options, &ProgressBar::hidden()).unwrap();
     assert_eq!(
-        (laz.camera, laz.radius, laz.color, laz.surveyed),
+        (laz.camera, laz.radii.radius, laz.color, laz.surveyed),
         (
             planned.camera,
-            planned.radius,
+            planned.radii.radius,
             planned.color,
             planned.surveyed
         )
@@ -310,7 +310,10 @@ fn a_surveyed_plan_agrees_with_the_in_core_path() {
         ..options
     };
     let planned = plan(&laz_path, &fixed, &ProgressBar::hidden()).unwrap();
-    assert_eq!((planned.radius, planned.keep_file_radii), (0.07, false));
+    assert_eq!(
+        (planned.radii.radius, planned.radii.keep_file_radii),
+        (0.07, false)
+    );
     let mut sink = Collect::default();
     let report = stream_file(&planned, 30_000, &mut sink, &ProgressBar::hidden()).unwrap();
     assert_eq!(

@@ -91,21 +91,15 @@ pub(super) fn rasterize(
             args.inputs_name()
         ));
     }
-    let info = crate::io::read_info(&args.file)?;
-    if let Some(note) = crate::prepare::units_note(&info) {
+    if let Some(note) = crate::prepare::units_note(&plan.info) {
         say(format!("note: {note}"));
     }
-    let unit = info.length_symbol();
+    let unit = plan.info.length_symbol();
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
         args.inputs_name(),
         plan.lod.map_or(plan.declared, |l| l.points_read),
-        crate::prepare::RadiusRule {
-            radius: plan.radius,
-            keep_file_radii: plan.keep_file_radii,
-            adaptive: plan.adaptive,
-        }
-        .describe(&unit),
+        plan.radii.describe(&unit),
         plan.camera.x,
         plan.camera.y,
         plan.camera.z,

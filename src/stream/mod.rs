@@ -18,7 +18,7 @@ pub use plan::{PlanOptions, SURVEY_POINTS, StreamPlan, plan, plan_files};
 
 use crate::io::{self, LoadError, PointChunk, Up};
 use crate::prepare::filter::Stage;
-use crate::prepare::{FilterCounts, FilterError, PrepareError};
+use crate::prepare::{FilterCounts, FilterError, PrepareError, RadiusRule};
 use crate::scene::{Attributes, Radii, Scene};
 use glam::DVec3;
 use indicatif::ProgressBar;
@@ -71,23 +71,17 @@ impl StreamReport {
 }
 
 /// A chunk as a scene relative to `origin`, without unusable points; returns it and the
-/// number dropped. Points get the file's radii when `keep_file_radii` and the chunk has them
-/// (`radius` where a file radius is not a positive finite number), else `radius`.
-pub fn chunk_scene(
-    chunk: PointChunk,
-    origin: DVec3,
-    up: Up,
-    radius: f32,
-    keep_file_radii: bool,
-    adaptive: Option<usize>,
-) -> (Scene, u64) {
+/// number dropped. Points are sized by `rule`: the file's radii when it keeps them and the
+/// chunk has them (its `radius` where a file radius is not a positive finite number), radii
+/// from the chunk's nearest neighbours when adaptive, else its `radius`.
+pub fn chunk_scene(chunk: PointChunk, origin: DVec3, up: Up, rule: &RadiusRule) -> (Scene, u64) {
     let keep: Vec<bool> = chunk
         .positions
         .iter()
         .map(|p| io::usable(up.to_world(*p)))
         .collect();
     let dropped = keep.iter().filter(|k| !**k).count() as u64;
-    let file_radii = chunk.radius.filter(|_| keep_file_radii);
+    let file_radii = chunk.radius.filter(|_| rule.keep_file_radii);
     let scene = Scene {
         origin,
         // Unusable points are converted too, then selected away below.
@@ -96,7 +90,7 @@ pub fn chunk_scene(
             .iter()
             .map(|p| (up.to_world(*p) - origin).as_vec3())
             .collect(),
-        radii: Radii::from_file(file_radii, radius),
+        radii: Radii::from_file(file_radii, rule.radius),
         attributes: Attributes {
             rgb: chunk.rgb,
             intensity: chunk.intensity,
@@ -109,8 +103,9 @@ pub fn chunk_scene(
     } else {
         scene.select(&keep)
     };
-    if let Some(radii) =
-        adaptive.and_then(|k| crate::prepare::radius::adaptive_radii(&scene.positions, k))
+    if let Some(radii) = rule
+        .adaptive
+        .and_then(|k| crate::prepare::radius::adaptive_radii(&scene.positions, k))
     {
         scene.radii = Radii::PerPoint(radii);
     }
@@ -139,7 +134,7 @@ pub fn stream_file(
         dropped: 0,
         filtered: FilterCounts::default(),
         camera: plan.camera,
-        radius: plan.radius,
+        radius: plan.radii.radius,
         seconds: 0.0,
     };
     match &plan.whole {

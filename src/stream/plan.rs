@@ -19,7 +19,7 @@ use crate::io::{self, ColorScale, LoadError, LoadOptions, PointReader, RawChunk,
 use crate::prepare::filter::{Stage, files_to_read};
 use crate::prepare::{
     CameraChoice, FilterCounts, FilterError, PointFilter, PrepareError, PrepareOptions, Prepared,
-    placement, prepare_files, radius,
+    RadiusRule, placement, prepare_files, radius,
 };
 use crate::render::{ColorMode, ColorRule};
 use crate::scene::{Attributes, Radii, Returns, Scene, extend_masked, masked};
@@ -66,6 +66,8 @@ impl Default for PlanOptions {
 pub struct StreamPlan {
     /// The (first) file.
     pub path: PathBuf,
+    /// Its header facts (format, coordinate system and its units).
+    pub info: io::FileInfo,
     /// Every file, streamed in this order.
     pub paths: Vec<PathBuf>,
     /// Point count from the header (the sum over all files).
@@ -74,13 +76,9 @@ pub struct StreamPlan {
     pub up: Up,
     /// Camera world position (given or automatic).
     pub camera: DVec3,
-    /// Radius for points without their own.
-    pub radius: f32,
-    /// The file's per-point radii are used (no radius was asked for and the file has them).
-    pub keep_file_radii: bool,
-    /// Per-point radii from this many nearest neighbours, found within each streamed chunk
-    /// (`--radius adaptive`); `radius` is then the survey's median.
-    pub adaptive: Option<usize>,
+    /// How spheres are sized: adaptive radii are found within each streamed chunk
+    /// (`--radius adaptive`), and the rule's `radius` is then the survey's median.
+    pub radii: RadiusRule,
     /// Colour mode with its ranges fixed on the survey (heights relative to the camera).
     pub color: ColorRule,
     /// How 16-bit colour becomes 8-bit, from the survey's largest channel value.
@@ -108,14 +106,7 @@ impl StreamPlan {
     /// A chunk as a scene relative to the camera, sized by the plan's radius rule; returns it
     /// and the number of unusable points dropped.
     pub fn chunk_scene(&self, chunk: io::PointChunk) -> (Scene, u64) {
-        super::chunk_scene(
-            chunk,
-            self.camera,
-            self.up,
-            self.radius,
-            self.keep_file_radii,
-            self.adaptive,
-        )
+        super::chunk_scene(chunk, self.camera, self.up, &self.radii)
     }
 }
 
@@ -194,13 +185,12 @@ fn plan_whole(
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: paths[0].clone(),
+        info: report.info,
         paths: paths.to_vec(),
         declared,
         up: options.prepare.up,
         camera: camera_world,
-        radius: radii.radius,
-        keep_file_radii: radii.keep_file_radii,
-        adaptive: radii.adaptive,
+        radii,
         color,
         color_scale: report.color_scale.unwrap_or(ColorScale::Direct8),
         surveyed: report.points_read,
@@ -546,13 +536,12 @@ fn plan_sampled(
     let color = ColorRule::for_scene(&scene, options.color)?;
     Ok(StreamPlan {
         path: path.to_path_buf(),
+        info: infos[0].clone(),
         paths: paths.to_vec(),
         declared,
         up,
         camera,
-        radius: radii.radius,
-        keep_file_radii: radii.keep_file_radii,
-        adaptive: radii.adaptive,
+        radii,
         color,
         color_scale,
         surveyed: sample.read,
@@ -652,8 +641,12 @@ mod tests {
             assert_eq!(whole.positions, core.scene.positions, "{name}");
             assert_eq!(whole.radii, core.scene.radii, "{name}");
             match &core.scene.radii {
-                Radii::Uniform(r) => assert!(plan.radius == *r && !plan.keep_file_radii),
-                Radii::PerPoint(_) => assert!(plan.keep_file_radii || plan.adaptive.is_some()),
+                Radii::Uniform(r) => {
+                    assert!(plan.radii.radius == *r && !plan.radii.keep_file_radii)
+                }
+                Radii::PerPoint(_) => {
+                    assert!(plan.radii.keep_file_radii || plan.radii.adaptive.is_some())
+                }
             }
             assert_eq!(
                 plan.color.colors(whole).unwrap(),
