@@ -294,7 +294,7 @@ impl RenderArgs {
 
     /// Width the renderer draws per eye: `--width` times `--supersample`.
     pub fn render_width(&self) -> u32 {
-        self.draw.width.saturating_mul(self.look.supersample.max(1))
+        self.draw.render_width(&self.look)
     }
 
     /// Every input file, the first first.
@@ -342,6 +342,11 @@ pub struct DrawArgs {
 }
 
 impl DrawArgs {
+    /// Width the renderer draws per eye under `look`: `--width` times `--supersample`.
+    pub fn render_width(&self, look: &LookArgs) -> u32 {
+        self.width.saturating_mul(look.supersample.max(1))
+    }
+
     /// The render settings of `image` seen by `camera` under `view`'s stereo and depth map.
     pub fn settings(
         &self,

@@ -5,12 +5,11 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 
 use crate::bench::{self, BenchConfig};
+use crate::io::Up;
+use crate::prepare::filter::ReturnFilter;
 use crate::prepare::prepare;
 use crate::projection::Image;
 use crate::render::{ColorMode, RenderSettings};
-
-use crate::io::Up;
-use crate::prepare::filter::ReturnFilter;
 
 use super::args::{BenchArgs, ViewArgs};
 use super::progress;
@@ -109,7 +108,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             }
         };
         let prepared = prepare(file, &args.view.prepare_options(), &ProgressBar::hidden())?;
-        super::warn_dropped(file, &prepared.report, &say);
+        super::say_load_notes(file, &prepared.report, &say);
         let c = prepared.camera_world;
         say(format!(
             "{}: {} points, camera at ({:.3}, {:.3}, {:.3})",

@@ -58,8 +58,10 @@ pub fn error_message(error: &anyhow::Error) -> String {
     message
 }
 
-/// Warns, through `say`, of points loading dropped for NaN/inf coordinates.
-fn warn_dropped(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
+/// Says, through `say`, what the load of `file` means for the user: the units note of its
+/// coordinate system ([`crate::prepare::units_note`]) and the points dropped for NaN/inf
+/// coordinates.
+fn say_load_notes(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
     if let Some(note) = crate::prepare::units_note(&report.info) {
         say(format!("note: {note}"));
     }

@@ -249,7 +249,7 @@ fn load_whole(args: &RenderArgs, origin: Option<DVec3>, say: &impl Fn(String)) -
     if let Some(lod) = &prepared.lod {
         say(format!("{}: {lod}", args.inputs_name()));
     }
-    super::warn_dropped(Path::new(&args.inputs_name()), &prepared.report, say);
+    super::say_load_notes(Path::new(&args.inputs_name()), &prepared.report, say);
     say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
     Ok(prepared)
 }
@@ -347,7 +347,7 @@ fn ray_trace(
             scene.len() as u64,
         )?;
     }
-    super::warn_dropped(Path::new(&args.inputs_name()), &report, say);
+    super::say_load_notes(Path::new(&args.inputs_name()), &report, say);
     say_filtered(args, &filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {
         let before = scene.len();

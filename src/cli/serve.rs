@@ -82,7 +82,7 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     let pb = progress::bar(args.quiet, 0, "loading");
     let prepared = prepare(&args.file, &options, &pb)?;
     pb.finish_and_clear();
-    super::warn_dropped(&args.file, &prepared.report, &|m| eprintln!("{m}"));
+    super::say_load_notes(&args.file, &prepared.report, &|m| eprintln!("{m}"));
     let unit = prepared.report.info.length_symbol();
     let radius = prepared.radii.describe(&unit);
     let live = LiveOptions {

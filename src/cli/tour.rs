@@ -170,7 +170,7 @@ pub fn run(args: &TourArgs) -> Result<()> {
     let planned = tour::plan(&request, &pb);
     pb.finish_and_clear();
     let planned = planned?;
-    super::warn_dropped(&args.file, &planned.load_report, &say);
+    super::say_load_notes(&args.file, &planned.load_report, &say);
     let total = planned.poses.len();
     say(format!(
         "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {} through {} keyframes: \
@@ -340,7 +340,7 @@ fn check_memory(args: &TourArgs) -> Result<()> {
         },
     };
     let info = crate::io::open(&args.file)?.info().clone();
-    let width = args.draw.width.saturating_mul(args.look.supersample.max(1));
+    let width = args.draw.render_width(&args.look);
     let estimate = memory::raytrace_estimate_for(&info, 1, width, args.view.eyes());
     memory::check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())

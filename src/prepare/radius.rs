@@ -398,20 +398,6 @@ fn count_cells(points: &[Vec3], origin: Vec3, cell: f32) -> usize {
 #[cfg(test)]
 mod tests {
 
-    #[test]
-    fn rules_describe_themselves_in_the_files_unit() {
-        let rule = |keep_file_radii, adaptive| RadiusRule {
-            radius: 0.4,
-            keep_file_radii,
-            adaptive,
-        };
-        assert_eq!(rule(false, None).describe("ft"), "0.4000 ft");
-        assert_eq!(
-            rule(false, Some(8)).describe("m"),
-            "adaptive:8 (median 0.4000 m)"
-        );
-        assert_eq!(rule(true, None).describe("m"), "per point");
-    }
     use super::*;
     use glam::DVec3;
 
@@ -569,5 +555,20 @@ mod tests {
         assert_eq!(auto_radius(&one), FALLBACK_RADIUS);
         let same = Scene::new(DVec3::ZERO, vec![Vec3::ONE; 10], 0.1);
         assert_eq!(median_spacing(&same), None);
+    }
+
+    #[test]
+    fn rules_describe_themselves_in_the_files_unit() {
+        let rule = |keep_file_radii, adaptive| RadiusRule {
+            radius: 0.4,
+            keep_file_radii,
+            adaptive,
+        };
+        assert_eq!(rule(false, None).describe("ft"), "0.4000 ft");
+        assert_eq!(
+            rule(false, Some(8)).describe("m"),
+            "adaptive:8 (median 0.4000 m)"
+        );
+        assert_eq!(rule(true, None).describe("m"), "per point");
     }
 }

@@ -191,27 +191,17 @@ impl Images {
         ctx: &GpuContext,
         spare: &Mutex<Spare>,
     ) -> Result<Vec<Frame>, RasterError> {
-        fn read_each<E: ReadBack>(
-            eyes: &mut [E],
-            ctx: &GpuContext,
-            spare: &Mutex<Spare>,
-        ) -> Result<Vec<Frame>, RasterError> {
-            eyes.iter_mut()
-                .map(|t| {
-                    let (w, h) = t.size();
-                    t.read(ctx, true, Spare::take_frame(spare, w, h))
-                })
-                .collect()
-        }
+        let reuse = |(w, h)| Spare::take_frame(spare, w, h);
         match self {
-            Images::Drawn(eyes) => read_each(eyes, ctx, spare),
-            Images::Keyed { eyes, .. } => read_each(eyes, ctx, spare),
+            Images::Drawn(eyes) => read_each(eyes, ctx, reuse),
+            Images::Keyed { eyes, .. } => read_each(eyes, ctx, reuse),
         }
     }
 
     /// Reads every eye back, freeing each eye's memory as soon as it is read: the peak while
     /// reading stays near one eye's read-back.
     pub fn read_freed(self, ctx: &GpuContext) -> Result<Vec<Frame>, RasterError> {
+        // Each eye is dropped as soon as it is read.
         match self {
             Images::Drawn(eyes) => eyes
                 .into_iter()
@@ -225,6 +215,18 @@ impl Images {
             }
         }
     }
+}
+
+/// Reads `eyes` back in order, keeping their read-back buffers, each into the frame `reuse`
+/// gives for its size, if any.
+fn read_each<E: ReadBack>(
+    eyes: &mut [E],
+    ctx: &GpuContext,
+    reuse: impl Fn((u32, u32)) -> Option<Frame>,
+) -> Result<Vec<Frame>, RasterError> {
+    eyes.iter_mut()
+        .map(|t| t.read(ctx, true, reuse(t.size())))
+        .collect()
 }
 
 /// An eye's image that reads back into a [`Frame`]: the drawn targets or the keys.

@@ -77,7 +77,7 @@ impl ReadBack for KeyedTargets {
             // frame's memory when there is one, since fresh pages cost more than the decode.
             let n = keys.len() / 8;
             let (mut color, mut depth) = match reuse {
-                Some(f) if f.color.len() == n && f.depth.len() == n => (f.color, f.depth),
+                Some(f) if (f.width, f.height) == (w, h) => (f.color, f.depth),
                 _ => (vec![[0u8; 4]; n], vec![0f32; n]),
             };
             color
