@@ -29,7 +29,11 @@ struct DrawArgs {
 }
 
 fn count(k: u32, n: u32) {
-    atomicAdd(&stats[params.eye * STATS_PER_EYE + k], n);
+    count_eye(params.eye, k, n);
+}
+
+fn count_eye(eye: u32, k: u32, n: u32) {
+    atomicAdd(&stats[eye * STATS_PER_EYE + k], n);
 }
 
 fn encode(p: vec2<f32>, uv: vec2<f32>, idx: u32) -> ExpandedVertex {

@@ -44,9 +44,9 @@ fn wrapped_columns(x0: i32, x1: i32) -> vec4<i32> {
     return vec4<i32>(a, w - 1, 0, b - w);
 }
 
-// True when every tile that pixels `px` (x0, y0, x1, y1; columns unwrapped) touch shows a
-// hit nearer than `near` at each of its pixels.
-fn hidden_by_tiles(px: vec4<i32>, near: f32) -> bool {
+// True when every tile of eye `slot` (SLOT_OWN or SLOT_PAIR) that pixels `px` (x0, y0, x1,
+// y1; columns unwrapped) touch shows a hit nearer than `near` at each of its pixels.
+fn hidden_by_tiles(slot: u32, px: vec4<i32>, near: f32) -> bool {
     if near <= 0.0 || px.w < px.y || px.z < px.x {
         return false;
     }
@@ -65,7 +65,7 @@ fn hidden_by_tiles(px: vec4<i32>, near: f32) -> bool {
         let tx1 = u32(last) / TILE_SIDE;
         for (var ty = ty0; ty <= ty1; ty++) {
             for (var tx = tx0; tx <= tx1; tx++) {
-                if atomicLoad(&tile_far[ty * across + tx]) <= key {
+                if tile_far_of(slot, ty * across + tx) <= key {
                     return false;
                 }
             }

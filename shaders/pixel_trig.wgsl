@@ -15,9 +15,20 @@ fn is_separable(kind: u32) -> bool {
 
 // The ray through the centre of pixel `px` of a separable projection.
 fn table_pixel_ray(v: View, px: vec2<u32>) -> Ray {
+    let t = table_pixel_trig(px);
+    return ray_of_merge(v, t.trig, t.merge);
+}
+
+// Pixel `px`'s table entries: (sin lam, cos lam, sin phi, cos phi) and the merge factor.
+struct PixelTrig {
+    trig: vec4<f32>,
+    merge: f32,
+}
+
+fn table_pixel_trig(px: vec2<u32>) -> PixelTrig {
     let column = pixel_trig[px.x];
     let row = pixel_trig[u32(params.image_size.x) + px.y];
-    return ray_of_merge(v, vec4<f32>(column.xy, row.xy), row.z);
+    return PixelTrig(vec4<f32>(column.xy, row.xy), row.z);
 }
 
 // The ray through the centre of pixel `px` (integer pixel) of the image `params` draws.

@@ -43,9 +43,31 @@ fn cap_rect(b: Basis, s: vec3<f32>, radius: f32) -> Rect {
 }
 
 // Conservative box of every (lam, phi) whose ray (this eye) hits the sphere (s, radius).
+fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
+    return eye_bounds(shared_bounds(v, centre, radius), v.eye_sign);
+}
+
+// The part of sphere_bounds an ODS view's two eyes share: the box before the eye's longitude
+// offset lam -= e o (o between `offsets.x` and `offsets.y`; both 0 where there is none). A
+// parallel eye's is its own.
+struct SharedBounds {
+    rect: Rect,
+    offsets: vec2<f32>,
+    special: bool,
+}
+
+// The box of the eye of sign `e`.
+fn eye_bounds(b: SharedBounds, e: f32) -> Bounds {
+    let o1 = e * b.offsets.x;
+    let o2 = e * b.offsets.y;
+    let lo = vec2<f32>(b.rect.lo.x - max(o1, o2), b.rect.lo.y);
+    let hi = vec2<f32>(b.rect.hi.x - min(o1, o2), b.rect.hi.y);
+    return Bounds(Rect(lo, hi), b.special);
+}
+
 // Exact-inverse argument: a hit X projects to its pixel, lam(X) = lamC(X) - e asin(r/rho(X)),
 // tan phi(X) = k tan phiC(X) with k = rho / sqrt(rho^2 - r^2); bound each factor over the ball.
-fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
+fn shared_bounds(v: View, centre: vec3<f32>, radius: f32) -> SharedBounds {
     var s = centre;
     var h = 0.0;
     if is_parallel_eye(v) {
@@ -56,7 +78,7 @@ fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
     }
     let d = length(s);
     if d <= (radius + h) * (1.0 + 1e-5) + 1e-6 {
-        return Bounds(full_rect(), true);
+        return SharedBounds(full_rect(), vec2<f32>(0.0), true);
     }
     let b = v.basis;
     let rho = length(vec2<f32>(dot(s, b.right), dot(s, b.forward)));
@@ -64,7 +86,7 @@ fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
         // Every ray origin lies within h of C: hit directions lie in the cone of the ball of
         // radius + h.
         let c = cap_rect(b, s, radius + h);
-        return Bounds(c, h > 0.0 || c.hi.x - c.lo.x >= TAU);
+        return SharedBounds(c, vec2<f32>(0.0), h > 0.0 || c.hi.x - c.lo.x >= TAU);
     }
     let mono = cap_rect(b, s, radius);
     let rho_min = rho - radius;
@@ -81,9 +103,7 @@ fn sphere_bounds(v: View, centre: vec3<f32>, radius: f32) -> Bounds {
     let phi_lo = min(mono.lo.y, atan(kmax * tan(mono.lo.y)));
     let phi_hi = max(mono.hi.y, atan(kmax * tan(mono.hi.y)));
     let rmin = h * min(merge(v, phi_lo), merge(v, phi_hi));
-    let o1 = v.eye_sign * asin_accurate(rmin / rho_max);
-    let o2 = v.eye_sign * asin_accurate(rmax / rho_min);
-    let lam_lo = mono.lo.x - max(o1, o2);
-    let lam_hi = mono.hi.x - min(o1, o2);
-    return Bounds(Rect(vec2<f32>(lam_lo, phi_lo), vec2<f32>(lam_hi, phi_hi)), false);
+    let offsets = vec2<f32>(asin_accurate(rmin / rho_max), asin_accurate(rmax / rho_min));
+    return SharedBounds(Rect(vec2<f32>(mono.lo.x, phi_lo), vec2<f32>(mono.hi.x, phi_hi)),
+                        offsets, false);
 }

@@ -29,6 +29,23 @@ struct ListedGroups {
 @group(0) @binding(7) var<storage, read_write> listed: ListedPoints;
 @group(0) @binding(8) var<storage, read_write> listed_groups: ListedGroups;
 
+// The other eye of an ODS pair, for `expand_splat_pair`: its keys and occlusion tiles. The
+// other dispatches bind their own eye's here again.
+@group(0) @binding(10) var<storage, read_write> pair_keys: array<atomic<u64>>;
+@group(0) @binding(11) var<storage, read_write> pair_tile_far: array<atomic<u32>>;
+
+// Which eye's keys and tiles: the dispatch's own (`params.eye`) or the other of its pair.
+const SLOT_OWN: u32 = 0u;
+const SLOT_PAIR: u32 = 1u;
+
+// Tile `i` of eye `slot`. Callers pass a constant, so the other branch folds away.
+fn tile_far_of(slot: u32, i: u32) -> u32 {
+    if slot == SLOT_PAIR {
+        return atomicLoad(&pair_tile_far[i]);
+    }
+    return atomicLoad(&tile_far[i]);
+}
+
 // What `splat_point` did with a sphere.
 const SPLAT_NOTHING: u32 = 0u;
 const SPLAT_DONE: u32 = 1u;
@@ -51,6 +68,42 @@ fn expand_splat(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
+// The ODS pair's splat, in place of `expand_splat` for both eyes: the eyes' views differ only
+// in the sign of the eye (src/raster/raster_frame.rs checks it), so one dispatch ray casts
+// each sphere for both, loading a pixel's table entries once, and each eye keeps its own
+// bounds, tiles, keys and counts: its keys are bit for bit those of `expand_splat`. A sphere
+// that either eye draws is listed for both; `expand_listed` then runs once per eye.
+@compute @workgroup_size(EXPAND_WORKGROUP)
+fn expand_splat_pair(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= params.batch_count {
+        return;
+    }
+    let idx = params.batch_first + gid.x;
+    let p = point_sphere(idx);
+    var q = p;
+    q.view.eye_sign = -p.view.eye_sign;
+    let both = ordinary_bounds(p);
+    let o = eye_pixels(both, p.view.eye_sign);
+    var oq = eye_pixels(both, q.view.eye_sign);
+    if q.view.model == MODEL_PARALLEL {
+        // A parallel eye sees from its own camera.
+        oq = ordinary_pixels(q);
+    }
+    if !o.ok || !oq.ok || too_large(o.px) || too_large(oq.px) {
+        list_point(idx);
+        return;
+    }
+    // Both eyes' rays start within the same reach of C, square to their directions.
+    let near = nearest_possible(p);
+    let hide = vec2<bool>(hidden_by_tiles(SLOT_OWN, o.px, near),
+                          hidden_by_tiles(SLOT_PAIR, oq.px, near));
+    count(select(STAT_SPLATTED, STAT_OCCLUDED, hide.x), 1u);
+    count_eye(1u - params.eye, select(STAT_SPLATTED, STAT_OCCLUDED, hide.y), 1u);
+    if !all(hide) {
+        splat_pair_pixels(p, q, o.px, oq.px, hide, idx);
+    }
+}
+
 @compute @workgroup_size(EXPAND_WORKGROUP)
 fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= atomicLoad(&listed.count) {
@@ -65,7 +118,7 @@ fn expand_listed(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     // An ordinary sphere is tested against the tiles, drawn as its bounds (as
     // `expand_raycast_bounds` would, from the same bounds), then covers them.
-    if hidden_by_tiles(o.px, nearest_possible(p)) {
+    if hidden_by_tiles(SLOT_OWN, o.px, nearest_possible(p)) {
         count(STAT_OCCLUDED, 1u);
         return;
     }
@@ -82,15 +135,32 @@ struct OrdinaryPixels {
 }
 
 fn ordinary_pixels(p: PointSphere) -> OrdinaryPixels {
-    let none = OrdinaryPixels(false, full_rect(), vec4<i32>(0));
+    return eye_pixels(ordinary_bounds(p), p.view.eye_sign);
+}
+
+// `p`'s shared_bounds, `ok` where it is ordinary. An ODS view's two eyes share it: whether the
+// centre has a projection does not depend on the eye's sign either.
+struct OrdinaryBounds {
+    ok: bool,
+    bounds: SharedBounds,
+}
+
+fn ordinary_bounds(p: PointSphere) -> OrdinaryBounds {
+    let none = OrdinaryBounds(false, SharedBounds(full_rect(), vec2<f32>(0.0), true));
     if projection_of(params).kind != PROJ_EQUIRECT_FULL || !has_projection(p.view, p.centre) {
         return none;
     }
-    let bounds = sphere_bounds(p.view, p.centre, p.radius);
-    if bounds.special {
-        return none;
+    let b = shared_bounds(p.view, p.centre, p.radius);
+    return OrdinaryBounds(!b.special, b);
+}
+
+// The pixels of the eye of sign `e` from its ordinary bounds `o`.
+fn eye_pixels(o: OrdinaryBounds, e: f32) -> OrdinaryPixels {
+    if !o.ok {
+        return OrdinaryPixels(false, full_rect(), vec4<i32>(0));
     }
-    return OrdinaryPixels(true, bounds.rect, bounds_pixels(bounds.rect));
+    let rect = eye_bounds(o.bounds, e).rect;
+    return OrdinaryPixels(true, rect, bounds_pixels(rect));
 }
 
 // Appends point `idx` to the list, counting a workgroup of `expand_listed` per
@@ -117,11 +187,10 @@ fn splat_point(p: PointSphere, idx: u32) -> u32 {
             return SPLAT_LISTED;
         }
         let px = o.px;
-        let limit = i32(params.splat_limit);
-        if px.z - px.x >= limit || px.w - px.y >= limit {
+        if too_large(px) {
             return SPLAT_LISTED;
         }
-        if hidden_by_tiles(px, nearest_possible(p)) {
+        if hidden_by_tiles(SLOT_OWN, px, nearest_possible(p)) {
             return SPLAT_HIDDEN;
         }
         splat_pixels(view, px, s, radius, idx);
@@ -139,6 +208,12 @@ fn splat_point(p: PointSphere, idx: u32) -> u32 {
         return SPLAT_LISTED;
     }
     return SPLAT_DONE;
+}
+
+// Whether pixels `px` (bounds_pixels) span too many pixels a side to be splatted.
+fn too_large(px: vec4<i32>) -> bool {
+    let limit = i32(params.splat_limit);
+    return px.z - px.x >= limit || px.w - px.y >= limit;
 }
 
 // Pixel centres (x0, y0)..(x1, y1) (columns unwrapped, rows clipped to the image) inside
@@ -177,6 +252,42 @@ fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) 
             }
         }
     }
+}
+
+// Ray casts sphere `p` at pixels `a` and `q` (the same sphere seen by the other eye) at pixels
+// `b` (bounds_pixels of each), over the box holding both, except for an eye in `hide`.
+fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i32>,
+                     hide: vec2<bool>, idx: u32) {
+    let w = i32(params.image_size.x);
+    // b's columns a turn over where they lie across the seam from a's (a parallel eye's box
+    // can, seen from its own camera; an ODS pair's come from one box). Without it the box
+    // would span the image: slower, not wrong.
+    let turn = select(select(0, w, b_own.x + w / 2 < a.x), -w, b_own.x - w / 2 > a.x);
+    let b = b_own + vec4<i32>(turn, 0, turn, 0);
+    let box = vec4<i32>(min(a.xy, b.xy), max(a.zw, b.zw));
+    let payload = sphere_payload(idx);
+    for (var y = box.y; y <= box.w; y++) {
+        for (var x = box.x; x <= box.z; x++) {
+            let xw = wrap_column(x);
+            let at = table_pixel_trig(vec2<u32>(u32(xw), u32(y)));
+            let i = u32(y * w + xw);
+            let t = intersect_sphere(ray_of_merge(p.view, at.trig, at.merge), p.centre,
+                                     p.radius);
+            if t > 0.0 && !hide.x && inside_pixels(a, x, y) {
+                atomicMax(&splat_keys[i], hit_key(t, payload));
+            }
+            let u = intersect_sphere(ray_of_merge(q.view, at.trig, at.merge), q.centre,
+                                     q.radius);
+            if u > 0.0 && !hide.y && inside_pixels(b, x, y) {
+                atomicMax(&pair_keys[i], hit_key(u, payload));
+            }
+        }
+    }
+}
+
+// Whether pixel (x, y) (column unwrapped as px's) lies in pixels `px`.
+fn inside_pixels(px: vec4<i32>, x: i32, y: i32) -> bool {
+    return x >= px.x && x <= px.z && y >= px.y && y <= px.w;
 }
 
 // Ray casts the pixels of `rects` (image_bounds, clipped to the image) with their own

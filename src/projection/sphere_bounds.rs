@@ -104,11 +104,42 @@ pub fn cap_rect(b: &Basis, s: DVec3, radius: f64) -> Rect {
 
 /// Conservative box of every `(lam, phi)` whose ray (view `v`) hits the sphere (`centre`
 /// relative to C, `radius`). A parallel eye sees it as the mono view from its camera does.
+pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
+    eye_bounds(&shared_bounds(v, centre, radius), v.eye_sign)
+}
+
+/// The part of [`sphere_bounds`] an ODS view's two eyes share: the box before the eye's
+/// longitude offset `lam -= e o`, `o` between `offsets.x` and `offsets.y` (both 0 where there
+/// is none). A parallel eye's is its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SharedBounds {
+    /// The box, longitudes before the offset.
+    pub rect: Rect,
+    /// The offset's range, unsigned.
+    pub offsets: DVec2,
+    /// As [`Bounds::special`].
+    pub special: bool,
+}
+
+/// The box of the eye of sign `e`.
+pub fn eye_bounds(b: &SharedBounds, e: f64) -> Bounds {
+    let o1 = e * b.offsets.x;
+    let o2 = e * b.offsets.y;
+    Bounds {
+        rect: Rect {
+            lo: DVec2::new(b.rect.lo.x - o1.max(o2), b.rect.lo.y),
+            hi: DVec2::new(b.rect.hi.x - o1.min(o2), b.rect.hi.y),
+        },
+        special: b.special,
+    }
+}
+
+/// [`SharedBounds`] of the sphere in view `v`.
 ///
 /// Exact-inverse argument: a hit `X` projects to its pixel,
 /// `lam(X) = lamC(X) - e asin(r/rho(X))`, `tan phi(X) = k tan phiC(X)` with
 /// `k = rho / sqrt(rho^2 - r^2)`; bound each factor over the ball.
-pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
+pub fn shared_bounds(v: &View, centre: DVec3, radius: f64) -> SharedBounds {
     let (s, h) = if v.model == EyeModel::Parallel && v.eye_sign != 0.0 {
         // One camera for every ray: the mono box seen from it.
         (centre - v.eye_sign * v.half_ipd * v.basis().right, 0.0)
@@ -119,8 +150,9 @@ pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
     };
     let d = s.length();
     if d <= (radius + h) * (1.0 + ENCLOSE_SLACK) + ABSOLUTE_SLACK {
-        return Bounds {
+        return SharedBounds {
             rect: Rect::full(),
+            offsets: DVec2::ZERO,
             special: true,
         };
     }
@@ -130,8 +162,9 @@ pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
         // Every ray origin lies within h of C: hit directions lie in the cone of the ball of
         // radius + h.
         let c = cap_rect(b, s, radius + h);
-        return Bounds {
+        return SharedBounds {
             rect: c,
+            offsets: DVec2::ZERO,
             special: h > 0.0 || c.hi.x - c.lo.x >= TAU,
         };
     }
@@ -151,15 +184,12 @@ pub fn sphere_bounds(v: &View, centre: DVec3, radius: f64) -> Bounds {
     let phi_lo = mono.lo.y.min((kmax * mono.lo.y.tan()).atan());
     let phi_hi = mono.hi.y.max((kmax * mono.hi.y.tan()).atan());
     let rmin = h * merge(v, phi_lo).min(merge(v, phi_hi));
-    let o1 = v.eye_sign * (rmin / rho_max).asin();
-    let o2 = v.eye_sign * (rmax / rho_min).asin();
-    let lam_lo = mono.lo.x - o1.max(o2);
-    let lam_hi = mono.hi.x - o1.min(o2);
-    Bounds {
+    SharedBounds {
         rect: Rect {
-            lo: DVec2::new(lam_lo, phi_lo),
-            hi: DVec2::new(lam_hi, phi_hi),
+            lo: DVec2::new(mono.lo.x, phi_lo),
+            hi: DVec2::new(mono.hi.x, phi_hi),
         },
+        offsets: DVec2::new((rmin / rho_max).asin(), (rmax / rho_min).asin()),
         special: false,
     }
 }
@@ -213,6 +243,41 @@ mod tests {
         assert!((got.rect.hi.x - (a - (0.032f64 / 11.0).asin())).abs() < 1e-15);
         // Latitude grows by k = rho / sqrt(rho^2 - r^2) at most.
         assert!(got.rect.hi.y > a && got.rect.hi.y < a * 1.0001);
+    }
+
+    #[test]
+    fn an_ods_pair_shares_its_bounds_but_for_the_eyes_sign() {
+        let stereo = Stereo::Ods {
+            ipd: 0.5,
+            merging: PoleMerging::both(crate::projection::PoleMerge::COMFORTABLE),
+            offset: OdsOffset::Exact,
+        };
+        let camera = Camera::new(DVec3::new(1.0, 2.0, 3.0), 30.0).with_orientation(10.0, 5.0);
+        let left = View::eye(camera, &stereo, Eye::Left);
+        let right = View::eye(camera, &stereo, Eye::Right);
+        let mut rng = crate::rng::SplitMix64::new(7);
+        let mut ordinary = 0;
+        for _ in 0..2000 {
+            let centre = DVec3::new(
+                rng.range(-8.0, 8.0),
+                rng.range(-8.0, 8.0),
+                rng.range(-8.0, 8.0),
+            );
+            let radius = rng.range(0.01, 2.0);
+            let shared = shared_bounds(&left, centre, radius);
+            assert_eq!(shared, shared_bounds(&right, centre, radius));
+            assert_eq!(
+                eye_bounds(&shared, -1.0),
+                sphere_bounds(&left, centre, radius)
+            );
+            assert_eq!(
+                eye_bounds(&shared, 1.0),
+                sphere_bounds(&right, centre, radius)
+            );
+            ordinary += usize::from(!shared.special && shared.offsets.y > 0.0);
+        }
+        // Most spheres take the offset branch.
+        assert!(ordinary > 1500, "{ordinary}");
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! The expand compute pipeline (`shaders/expand.wgsl`): turns each point of a batch into
 //! proxy triangles of one eye, counting into the statistics. On the keyed path it is two
 //! dispatches (`shaders/splat.wgsl`): one splats the small spheres and lists the rest, the
-//! second, indirect, expands the listed ones.
+//! second, indirect, expands the listed ones. An ODS pair's eyes share the first
+//! (`expand_splat_pair`): one dispatch splats each sphere for both.
 
 use bytemuck::{Pod, Zeroable};
 
@@ -77,6 +78,10 @@ pub struct KeyedBuffers<'a> {
     pub tiles: &'a wgpu::Buffer,
     /// The chunk's colours.
     pub colors: &'a wgpu::Buffer,
+    /// The other eye of the frame's pair, its keys; a mono frame's eye binds its own again.
+    pub pair_keys: &'a wgpu::Buffer,
+    /// The other eye's occlusion tiles (or the eye's own).
+    pub pair_tiles: &'a wgpu::Buffer,
     /// WGSL `ListedPoints`: the count and indices of the points left to draw.
     pub listed: &'a wgpu::Buffer,
     /// The second dispatch's arguments (WGSL `ListedGroups`), apart from the list: a dispatch
@@ -87,8 +92,10 @@ pub struct KeyedBuffers<'a> {
 /// The expand pipeline and its bind group layout; on the keyed path, the splat's two.
 pub struct ExpandPipeline {
     layout: wgpu::BindGroupLayout,
-    /// `expand`, or on the keyed path `expand_splat`.
+    /// `expand`, or on the keyed path `expand_splat`, or for ODS pairs `expand_splat_pair`.
     pipeline: wgpu::ComputePipeline,
+    /// Whether `pipeline` splats both eyes of a pair.
+    pairs: bool,
     /// On the keyed path, `expand_listed` and its layout.
     listed: Option<(wgpu::BindGroupLayout, wgpu::ComputePipeline)>,
 }
@@ -101,8 +108,15 @@ pub struct ExpandBindings {
 }
 
 impl ExpandPipeline {
-    /// Compiles the pipelines from `src` (a [`source`] module, with the splat when `keyed`).
-    pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>, keyed: bool) -> Self {
+    /// Compiles the pipelines from `src` (a [`source`] module, with the splat when `keyed`);
+    /// with `pairs` (keyed only) the splat serves both eyes of an ODS pair at once.
+    pub fn new(
+        device: &wgpu::Device,
+        src: &shaders::PipelineSource<'_>,
+        keyed: bool,
+        pairs: bool,
+    ) -> Self {
+        debug_assert!(keyed || !pairs, "only the keyed path splats pairs");
         use wgpu::BufferBindingType::{Storage, Uniform};
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
@@ -119,6 +133,7 @@ impl ExpandPipeline {
             return ExpandPipeline {
                 layout,
                 pipeline,
+                pairs: false,
                 listed: None,
             };
         }
@@ -127,17 +142,31 @@ impl ExpandPipeline {
             entry(6, Storage { read_only: true }),
             entry(7, rw),
             entry(9, rw),
+            entry(10, rw),
+            entry(11, rw),
         ]);
         let listed =
             shaders::compute_pipeline(device, "expand listed", src, "expand_listed", &entries);
         entries.push(entry(8, rw));
+        let (label, entry_point) = if pairs {
+            ("expand splat pair", "expand_splat_pair")
+        } else {
+            ("expand splat", "expand_splat")
+        };
         let (layout, pipeline) =
-            shaders::compute_pipeline(device, "expand splat", src, "expand_splat", &entries);
+            shaders::compute_pipeline(device, label, src, entry_point, &entries);
         ExpandPipeline {
             layout,
             pipeline,
+            pairs,
             listed: Some(listed),
         }
+    }
+
+    /// Whether the splat serves both eyes of an ODS pair: the first eye's batch is
+    /// dispatched whole, the second's with `listed_only`.
+    pub fn pairs(&self) -> bool {
+        self.pairs
     }
 
     /// Binds `buffers` for [`ExpandPipeline::dispatch`]; on the keyed path they must include
@@ -170,6 +199,8 @@ impl ExpandPipeline {
             shaders::bind(6, k.colors),
             shaders::bind(7, k.listed),
             shaders::bind(9, k.tiles),
+            shaders::bind(10, k.pair_keys),
+            shaders::bind(11, k.pair_tiles),
         ]);
         let listed = group("expand listed", listed_layout, &entries);
         entries.push(shaders::bind(8, k.listed_groups));
@@ -181,22 +212,27 @@ impl ExpandPipeline {
 
     /// Records the expansion of `count` points (the batch of the bound `Params`); `trig`
     /// binds the pixel trigonometry. On the keyed path `listed_groups` (bound, cleared to
-    /// [`splat::NO_GROUPS`] with the list's count to 0) sizes the second dispatch.
+    /// [`splat::NO_GROUPS`] with the list's count to 0) sizes the second dispatch;
+    /// `listed_only` records that one alone, for the second eye of a pair, whose spheres the
+    /// first eye's splat cast and listed.
     pub fn dispatch(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         bindings: &ExpandBindings,
         trig: &wgpu::BindGroup,
         (count, listed_groups): (u32, Option<&wgpu::Buffer>),
+        listed_only: bool,
     ) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("expand"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bindings.main, &[]);
         pass.set_bind_group(1, trig, &[]);
-        pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
+        if !listed_only {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bindings.main, &[]);
+            pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
+        }
         if let (Some((_, pipeline)), Some(group), Some(args)) =
             (&self.listed, &bindings.listed, listed_groups)
         {

@@ -76,6 +76,11 @@ impl Rasterizer {
         let device = &ctx.device;
         let views = settings.views();
         let pipelines = self.pipelines(frame_specialisation(settings), sizing.splat())?;
+        if pipelines.expand.pairs() && !eyes_mirror(settings, &views) {
+            return Err(RasterError::Settings(
+                "the eyes of a stereo frame differ in more than their sign".into(),
+            ));
+        }
         // The eyes of a frame share their merge profiles: one table serves them all.
         debug_assert!(views.iter().all(|v| v.merging == views[0].merging));
         let table = pixel_trig::table(&settings.image, &views[0].merging);
@@ -129,6 +134,21 @@ impl Rasterizer {
     }
 }
 
+/// Whether `views` are the two eyes of a pair whose parameters differ only in the eye (its
+/// index and sign), as the pair splat (`expand_splat_pair`) takes them to.
+fn eyes_mirror(settings: &RenderSettings, views: &[View]) -> bool {
+    let [left, right] = views else {
+        return false;
+    };
+    let left = Params::new(left, settings, 0, (0, 0), 0);
+    let mirrored = Params {
+        eye: 1,
+        eye_sign: -left.eye_sign,
+        ..left
+    };
+    Params::new(right, settings, 1, (0, 0), 0) == mirrored
+}
+
 /// Rejects settings the rasterizer cannot draw.
 fn check_settings(settings: &RenderSettings) -> Result<(), RasterError> {
     let img = settings.image;
@@ -169,7 +189,8 @@ impl<'r> RasterFrame<'r> {
     }
 
     /// Expands and draws `chunk` for every eye, then merges its splatted spheres; `progress`
-    /// advances by the points drawn, once per eye.
+    /// advances by the points drawn, once per eye. Batch by batch, each eye in turn; an ODS
+    /// pair's splat serves both eyes in the first eye's dispatch.
     pub(crate) fn draw(
         &mut self,
         chunk: &GpuChunk,
@@ -182,11 +203,14 @@ impl<'r> RasterFrame<'r> {
         let ctx = &self.rasterizer.ctx;
         let device = &ctx.device;
         let images = &self.buffers.images;
+        let eyes = self.views.len();
         // Per eye: on the keyed path each eye's keys are its image.
         let bind_groups = ctx.scoped("binding a chunk", || {
-            (0..self.views.len())
+            (0..eyes)
                 .map(|eye| {
                     let keys = images.keys(eye);
+                    // The pair splat's other eye; a mono eye binds its own again.
+                    let pair = images.keys((eye + 1) % eyes);
                     let expand = r.expand.bind(
                         device,
                         &ExpandBuffers {
@@ -195,10 +219,12 @@ impl<'r> RasterFrame<'r> {
                             vertices: &self.buffers.vertices,
                             draw_args: &self.buffers.draw_args,
                             stats: &self.buffers.stats,
-                            keyed: keys.zip(self.buffers.listed.as_ref()).map(
-                                |(eye, (listed, listed_groups))| KeyedBuffers {
-                                    keys: &eye.keys,
-                                    tiles: &eye.tiles,
+                            keyed: keys.zip(pair).zip(self.buffers.listed.as_ref()).map(
+                                |((own, pair), (listed, listed_groups))| KeyedBuffers {
+                                    keys: &own.keys,
+                                    tiles: &own.tiles,
+                                    pair_keys: &pair.keys,
+                                    pair_tiles: &pair.tiles,
                                     colors: &chunk.colors,
                                     listed,
                                     listed_groups,
@@ -220,45 +246,50 @@ impl<'r> RasterFrame<'r> {
                 })
                 .collect::<Vec<_>>()
         })?;
-        let vertex_capacity = self.sizing.vertex_capacity;
+        let pairs = r.expand.pairs();
         let img = self.settings.image;
-        for (eye, (view, (expand_bg, draw_bg, resolve_bg))) in
-            self.views.iter().zip(&bind_groups).enumerate()
-        {
-            let mut first = 0u32;
-            while first < chunk.len {
-                let count = (chunk.len - first).min(self.sizing.batch_points);
-                let params = Params {
-                    splat_limit: self.sizing.splat_limit as f32,
-                    camera_offset: self.camera_offset,
-                    ..Params::new(
-                        view,
-                        &self.settings,
-                        eye as u32,
-                        (first, count),
-                        vertex_capacity,
-                    )
-                };
+        let mut first = 0u32;
+        while first < chunk.len {
+            let count = (chunk.len - first).min(self.sizing.batch_points);
+            for eye in 0..eyes {
+                let (expand_bg, draw_bg, _) = &bind_groups[eye];
+                // The second eye of a pair: the first eye's dispatch splatted and listed its
+                // spheres; it draws the listed ones.
+                let listed_only = pairs && eye == 1;
+                let params = self.params(eye, (first, count));
                 debug_assert_eq!(Specialisation::of(&params), self.pipelines.spec);
                 ctx.queue
                     .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
                 ctx.queue
                     .write_buffer(&self.buffers.draw_args, 0, empty_draw_args().as_bytes());
-                if let Some((listed, groups)) = &self.buffers.listed {
+                if let (Some((listed, groups)), false) = (&self.buffers.listed, listed_only) {
                     ctx.queue.write_buffer(listed, 0, &0u32.to_ne_bytes());
                     ctx.queue
                         .write_buffer(groups, 0, splat::NO_GROUPS.as_bytes());
                 }
                 let mut encoder = device.create_command_encoder(&Default::default());
-                // What earlier batches drew hides spheres of this one.
-                if let (Some(resolve), Some(bg), true) =
-                    (&r.resolve, resolve_bg, self.drawn_any[eye])
-                {
-                    resolve.dispatch(&mut encoder, bg, &self.trig, (img.width, img.height));
+                // What earlier batches drew hides spheres of this one: the tiles of the eyes
+                // this eye's splat tests.
+                let splatted: &[usize] = match (listed_only, pairs) {
+                    (true, _) => &[],
+                    (false, true) => &[0, 1],
+                    (false, false) => &[eye],
+                };
+                for &e in splatted {
+                    if let (Some(resolve), Some(bg), true) =
+                        (&r.resolve, &bind_groups[e].2, self.drawn_any[e])
+                    {
+                        resolve.dispatch(&mut encoder, bg, &self.trig, (img.width, img.height));
+                    }
                 }
                 let listed_groups = self.buffers.listed.as_ref().map(|(_, groups)| groups);
-                r.expand
-                    .dispatch(&mut encoder, expand_bg, &self.trig, (count, listed_groups));
+                r.expand.dispatch(
+                    &mut encoder,
+                    expand_bg,
+                    &self.trig,
+                    (count, listed_groups),
+                    listed_only,
+                );
                 {
                     let mut pass = images.begin_draw(eye, &mut encoder);
                     r.imposter.draw(
@@ -274,12 +305,17 @@ impl<'r> RasterFrame<'r> {
                 ctx.wait("drawing imposters")?;
                 progress.inc(count as u64);
                 self.batches += 1;
-                self.drawn_any[eye] = true;
-                first += count;
             }
-            // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index
-            // this chunk's points).
+            self.drawn_any[..eyes].fill(true);
+            first += count;
+        }
+        // Lit shadings: shade each pixel's nearest hit of this chunk once (its keys index this
+        // chunk's points), seen by its eye.
+        for eye in 0..eyes {
             if let (Some(shade), Some(keys)) = (&r.shade, images.keys(eye).map(|e| &e.keys)) {
+                let params = self.params(eye, (0, chunk.len));
+                ctx.queue
+                    .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
                 let bg = ctx.scoped("binding the deferred shading", || {
                     shade.bind(
                         device,
@@ -296,6 +332,21 @@ impl<'r> RasterFrame<'r> {
             }
         }
         Ok(())
+    }
+
+    /// The `Params` of eye `eye` drawing the batch of `count` points from `first`.
+    fn params(&self, eye: usize, (first, count): (u32, u32)) -> Params {
+        Params {
+            splat_limit: self.sizing.splat_limit as f32,
+            camera_offset: self.camera_offset,
+            ..Params::new(
+                &self.views[eye],
+                &self.settings,
+                eye as u32,
+                (first, count),
+                self.sizing.vertex_capacity,
+            )
+        }
     }
 
     /// Ends the frame: reads back the images, the counts and the time the drawing took.
@@ -349,5 +400,62 @@ impl<'r> RasterFrame<'r> {
             cubemap_stereo::resample(&rendered, &self.output)
         };
         Ok((rendered, stats, timing))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec3;
+
+    use super::*;
+    use crate::projection::depth_map::DepthMap;
+    use crate::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
+
+    #[test]
+    fn the_eyes_of_every_stereo_rig_differ_only_in_their_sign() {
+        let camera = Camera::new(DVec3::new(3.0, -2.0, 1.5), 37.0).with_orientation(12.0, -5.0);
+        let merging = PoleMerging {
+            north: PoleMerge::COMFORTABLE,
+            south: PoleMerge::Off,
+        };
+        let rigs = [
+            Stereo::DEFAULT_ODS,
+            Stereo::Ods {
+                ipd: 0.5,
+                merging,
+                offset: OdsOffset::Paper,
+            },
+            Stereo::Parallel { ipd: 0.064 },
+        ];
+        let depth_maps = [
+            None,
+            Some(DepthMap::new(&[(1.0, 2.0), (4.0, 3.0)]).unwrap()),
+        ];
+        for stereo in rigs {
+            for depth_map in depth_maps {
+                let settings = RenderSettings {
+                    stereo,
+                    depth_map,
+                    ..RenderSettings::new(256, camera)
+                };
+                assert!(eyes_mirror(&settings, &settings.views()), "{stereo:?}");
+                let mono = RenderSettings {
+                    stereo: Stereo::Mono,
+                    ..settings
+                };
+                assert!(!eyes_mirror(&mono, &mono.views()));
+            }
+        }
+        // Eyes that differ in more than their sign do not pass.
+        let settings = RenderSettings {
+            stereo: Stereo::DEFAULT_ODS,
+            ..RenderSettings::new(256, camera)
+        };
+        let mut views = settings.views();
+        views[1].half_ipd *= 2.0;
+        assert!(!eyes_mirror(&settings, &views));
+        let mut views = settings.views();
+        views[1].merging.south = PoleMerge::Off;
+        assert!(!eyes_mirror(&settings, &views));
     }
 }

@@ -127,7 +127,12 @@ impl Rasterizer {
             };
             Pipelines {
                 spec,
-                expand: ExpandPipeline::new(device, &src(&m.expand), keyed),
+                expand: ExpandPipeline::new(
+                    device,
+                    &src(&m.expand),
+                    keyed,
+                    keyed && spec.splats_pairs(),
+                ),
                 imposter: ImposterPipeline::new(device, &src(&m.imposter), keyed),
                 shade: (keyed && spec.shading != SHADING_UNLIT)
                     .then(|| ShadePipeline::new(device, &src(&m.shade))),

@@ -4,7 +4,7 @@
 //! full equirect ran at a third of its speed once the shaders carried every projection, eye
 //! model and the depth map.
 
-use super::constants::{SPEC_MONO, SPEC_STEREO};
+use super::constants::{PROJ_EQUIRECT_FULL, SPEC_MONO, SPEC_STEREO};
 use super::params::Params;
 
 /// The modes one pipeline serves (WGSL `SPEC_*` overrides).
@@ -45,6 +45,12 @@ impl Specialisation {
             imposter: params.imposter,
             shading: params.shading,
         }
+    }
+
+    /// Whether the keyed path splats both eyes in one dispatch (`expand_splat_pair`): stereo
+    /// in the full equirect, whose eyes differ only in their sign.
+    pub fn splats_pairs(&self) -> bool {
+        self.eyes == SPEC_STEREO && self.projection == PROJ_EQUIRECT_FULL
     }
 
     /// The pipeline constants, by their WGSL names.
