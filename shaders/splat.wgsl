@@ -255,7 +255,9 @@ fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) 
 }
 
 // Ray casts sphere `p` at pixels `a` and `q` (the same sphere seen by the other eye) at pixels
-// `b` (bounds_pixels of each), over the box holding both, except for an eye in `hide`.
+// `b` (bounds_pixels of each), except for an eye in `hide`. Row by row, one run of columns
+// where the eyes' columns meet (far spheres: each pixel's table entries serve both), else
+// each eye's own (near ones, whose eyes' boxes lie apart).
 fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i32>,
                      hide: vec2<bool>, idx: u32) {
     let w = i32(params.image_size.x);
@@ -264,10 +266,21 @@ fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i
     // would span the image: slower, not wrong.
     let turn = select(select(0, w, b_own.x + w / 2 < a.x), -w, b_own.x - w / 2 > a.x);
     let b = b_own + vec4<i32>(turn, 0, turn, 0);
-    let box = vec4<i32>(min(a.xy, b.xy), max(a.zw, b.zw));
+    // Each eye's columns as (first, last), empty (last < first) for a hidden eye.
+    let none = vec2<i32>(0, -1);
+    var run_a = select(a.xz, none, hide.x);
+    var run_b = select(b.xz, none, hide.y);
+    if run_a.x <= run_a.y && run_b.x <= run_b.y && run_b.x <= run_a.y + 1
+        && run_a.x <= run_b.y + 1 {
+        run_a = vec2<i32>(min(run_a.x, run_b.x), max(run_a.y, run_b.y));
+        run_b = none;
+    }
+    let len_a = max(run_a.y - run_a.x + 1, 0);
+    let len = len_a + max(run_b.y - run_b.x + 1, 0);
     let payload = sphere_payload(idx);
-    for (var y = box.y; y <= box.w; y++) {
-        for (var x = box.x; x <= box.z; x++) {
+    for (var y = min(a.y, b.y); y <= max(a.w, b.w); y++) {
+        for (var k = 0; k < len; k++) {
+            let x = select(run_b.x + (k - len_a), run_a.x + k, k < len_a);
             let xw = wrap_column(x);
             let at = table_pixel_trig(vec2<u32>(u32(xw), u32(y)));
             let i = u32(y * w + xw);
