@@ -75,7 +75,7 @@ impl Rasterizer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let views = settings.views();
-        let pipelines = self.pipelines(frame_specialisation(settings), sizing.splat())?;
+        let pipelines = self.pipelines(Specialisation::of_frame(settings), sizing.splat())?;
         if pipelines.expand.pairs() && !eyes_mirror(settings, &views) {
             return Err(RasterError::Settings(
                 "the eyes of a stereo frame differ in more than their sign".into(),
@@ -116,20 +116,13 @@ impl Rasterizer {
     }
 }
 
-/// The modes the views of a frame under `settings` (its drawn settings: cube-map stereo's
-/// faces) are drawn in: every view alike, the eyes differing only in sign.
-fn frame_specialisation(settings: &RenderSettings) -> Specialisation {
-    let views = settings.views();
-    Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0))
-}
-
 impl Rasterizer {
     /// Compiles the pipelines a frame under `settings` draws with, ahead of the frame: a
     /// caller can do it while it reads the scene.
     pub fn prepare(&self, settings: &RenderSettings) -> Result<(), RasterError> {
         let drawn = cubemap_stereo::face_settings(settings).unwrap_or(*settings);
         let keyed = splats(&self.caps(), self.knobs(), &drawn);
-        self.pipelines(frame_specialisation(&drawn), keyed)
+        self.pipelines(Specialisation::of_frame(&drawn), keyed)
             .map(drop)
     }
 }

@@ -15,7 +15,7 @@ use super::pixel_trig;
 use super::shaders;
 use super::sizing::{DeviceCaps, Knobs, points_per_chunk};
 use super::specialisation::Specialisation;
-use super::splat::DEFAULT_SPLAT_LIMIT;
+use super::splat::{DEFAULT_PAIR_SPLAT_LIMIT, DEFAULT_SPLAT_LIMIT};
 use super::splat_shade::ShadePipeline;
 use super::tile_resolve::ResolvePipeline;
 use crate::frame::Rendered;
@@ -97,6 +97,7 @@ impl Rasterizer {
             spare: Mutex::new(Spare::default()),
             knobs: Knobs {
                 splat_limit: DEFAULT_SPLAT_LIMIT,
+                pair_splat_limit: DEFAULT_PAIR_SPLAT_LIMIT,
                 batch_limit: None,
             },
             pipeline_cache,
@@ -159,10 +160,13 @@ impl Rasterizer {
     }
 
     /// Sets the largest sphere (pixels per side of its bounds) that the compute splat ray
-    /// casts instead of drawing; 0 draws every sphere. The splat runs only for ray-cast
+    /// casts instead of drawing, for one eye's splat and an ODS pair's alike (by default
+    /// [`DEFAULT_SPLAT_LIMIT`] and [`DEFAULT_PAIR_SPLAT_LIMIT`]); 0 draws every sphere. The
+    /// splat runs only for ray-cast
     /// imposters on analytic bounds, on devices with 64-bit atomics; results must not change.
     pub fn set_splat_limit(&mut self, pixels: u32) {
         self.knobs.splat_limit = pixels;
+        self.knobs.pair_splat_limit = pixels;
     }
 
     /// Keeps the GPU buffers of up to `shapes` frame shapes (image size, eye count) between

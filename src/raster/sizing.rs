@@ -10,6 +10,7 @@ use super::chunk::GpuPoint;
 use super::constants::{MAX_DYNAMIC_LEVEL, MAX_KEY_INDEX};
 use super::error::RasterError;
 use super::expand::ExpandedVertex;
+use super::specialisation::Specialisation;
 
 /// Largest point buffer (bytes) one chunk binds, whatever the device allows.
 const MAX_CHUNK_BYTES: u64 = 256 << 20;
@@ -75,6 +76,8 @@ pub fn max_vertices_per_point(proxy: Proxy, projection: &Projection) -> u64 {
 pub struct Knobs {
     /// Largest sphere (pixels per side) the compute splat ray casts; 0 turns it off.
     pub splat_limit: u32,
+    /// The same for the splat of an ODS pair's two eyes at once.
+    pub pair_splat_limit: u32,
     /// Cap on the points per batch.
     pub batch_limit: Option<u32>,
 }
@@ -160,7 +163,11 @@ impl FrameSizing {
             });
         }
         Ok(FrameSizing {
-            splat_limit: if splat { knobs.splat_limit } else { 0 },
+            splat_limit: match (splat, Specialisation::of_frame(settings).splats_pairs()) {
+                (false, _) => 0,
+                (true, false) => knobs.splat_limit,
+                (true, true) => knobs.pair_splat_limit,
+            },
             vertex_capacity: vertex_capacity as u32,
             batch_points: batch as u32,
         })
@@ -189,6 +196,7 @@ mod tests {
 
     const DEFAULT_KNOBS: Knobs = Knobs {
         splat_limit: 16,
+        pair_splat_limit: 64,
         batch_limit: None,
     };
 
@@ -233,6 +241,24 @@ mod tests {
             }
         );
         assert!(s.splat());
+    }
+
+    #[test]
+    fn an_ods_pair_in_the_full_equirect_takes_the_pair_limit() {
+        let ods = RenderSettings {
+            stereo: crate::projection::Stereo::DEFAULT_ODS,
+            ..bounds(1024)
+        };
+        let limit = |s: &RenderSettings| {
+            FrameSizing::new(&LAVAPIPE, &DEFAULT_KNOBS, s, 1000)
+                .unwrap()
+                .splat_limit
+        };
+        assert_eq!(limit(&ods), 64);
+        assert_eq!(limit(&bounds(1024)), 16);
+        let mut hammer = ods;
+        hammer.image = Image::new(crate::projection::Projection::Hammer, 1024).unwrap();
+        assert_eq!(limit(&hammer), 16);
     }
 
     #[test]

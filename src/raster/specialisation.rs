@@ -6,6 +6,7 @@
 
 use super::constants::{PROJ_EQUIRECT_FULL, SPEC_MONO, SPEC_STEREO};
 use super::params::Params;
+use crate::render::RenderSettings;
 
 /// The modes one pipeline serves (WGSL `SPEC_*` overrides).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -45,6 +46,13 @@ impl Specialisation {
             imposter: params.imposter,
             shading: params.shading,
         }
+    }
+
+    /// The modes the views of a frame under `settings` (its drawn settings: cube-map stereo's
+    /// faces) are drawn in: every view alike, the eyes differing only in sign.
+    pub fn of_frame(settings: &RenderSettings) -> Self {
+        let views = settings.views();
+        Specialisation::of(&Params::new(&views[0], settings, 0, (0, 0), 0))
     }
 
     /// Whether the keyed path splats both eyes in one dispatch (`expand_splat_pair`): stereo

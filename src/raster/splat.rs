@@ -20,6 +20,10 @@ const OCCLUSION: &str = include_str!("../../shaders/occlusion.wgsl");
 /// larger ones are drawn.
 pub const DEFAULT_SPLAT_LIMIT: u32 = 16;
 
+/// The same for an ODS pair's splat (`expand_splat_pair`), which serves both eyes: a sphere
+/// it leaves is drawn once per eye, so it takes larger ones.
+pub const DEFAULT_PAIR_SPLAT_LIMIT: u32 = 64;
+
 /// The expand module's splat part: the key and the splat's entry points when the device has
 /// 64-bit atomics, else nothing.
 pub fn expand_part(int64_atomics: bool) -> String {
