@@ -45,10 +45,12 @@ fn pole_merge_factor(p: PoleMerge, abs_phi: f32) -> f32 {
     return 1.0;
 }
 
-// Mirrors PoleMerging::factor: the profile of latitude `phi`'s hemisphere.
+// Mirrors PoleMerging::factor: the profile of latitude `phi`'s hemisphere. The profile is
+// chosen before the one evaluation: a branch per hemisphere would evaluate both on llvmpipe,
+// which runs every branch a lane of its SIMD row takes.
 fn pole_merging_factor(north: PoleMerge, south: PoleMerge, phi: f32) -> f32 {
-    if phi >= 0.0 {
-        return pole_merge_factor(north, phi);
-    }
-    return pole_merge_factor(south, -phi);
+    let n = phi >= 0.0;
+    let p = PoleMerge(select(south.kind, north.kind, n), select(south.a, north.a, n),
+                      select(south.b, north.b, n), select(south.c, north.c, n));
+    return pole_merge_factor(p, abs(phi));
 }
