@@ -8,7 +8,9 @@
 // rest (too large, special, or with no projected centre); `expand_listed`, dispatched
 // indirectly over that list, gives them to expand.wgsl's `expand_raycast_bounds` to be
 // drawn. With the drawing code out of the splat's dispatch, frames on llvmpipe measured
-// faster. Both skip spheres hidden whole by nearer ones (occlusion.wgsl).
+// faster. Both skip spheres hidden whole by nearer ones (occlusion.wgsl). An ODS pair's
+// first eye dispatches `expand_splat_pair` in place of `expand_splat`, for both eyes; each
+// eye then dispatches `expand_listed`.
 
 // The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
@@ -16,7 +18,7 @@
 
 // The spheres left to draw, their count and point indices (up to a batch's points; the count
 // is cleared before each batch), and the indirect dispatch arguments of `expand_listed`
-// (cleared to (0, 1, 1)), bound to `expand_splat` only.
+// (cleared to (0, 1, 1)), bound to the splat's dispatch only.
 struct ListedPoints {
     count: atomic<u32>,
     points: array<u32>,
