@@ -86,10 +86,12 @@ fn expand_splat_pair(@builtin(global_invocation_id) gid: vec3<u32>) {
     q.view.eye_sign = -p.view.eye_sign;
     let both = ordinary_bounds(p);
     let o = eye_pixels(both, p.view.eye_sign);
-    var oq = eye_pixels(both, q.view.eye_sign);
+    var oq: OrdinaryPixels;
     if q.view.model == MODEL_PARALLEL {
         // A parallel eye sees from its own camera.
         oq = ordinary_pixels(q);
+    } else {
+        oq = eye_pixels(both, q.view.eye_sign);
     }
     if !o.ok || !oq.ok || too_large(o.px) || too_large(oq.px) {
         list_point(idx);

@@ -266,14 +266,18 @@ mod tests {
             let radius = rng.range(0.01, 2.0);
             let shared = shared_bounds(&left, centre, radius);
             assert_eq!(shared, shared_bounds(&right, centre, radius));
-            assert_eq!(
-                eye_bounds(&shared, -1.0),
-                sphere_bounds(&left, centre, radius)
+            // The eyes' boxes are the shared one moved apart: the left eye's by the offset's
+            // range to the east, the right eye's by it to the west (DESIGN §3).
+            let (l, r) = (
+                sphere_bounds(&left, centre, radius).rect,
+                sphere_bounds(&right, centre, radius).rect,
             );
-            assert_eq!(
-                eye_bounds(&shared, 1.0),
-                sphere_bounds(&right, centre, radius)
-            );
+            assert_eq!((l.lo.y, l.hi.y), (shared.rect.lo.y, shared.rect.hi.y));
+            assert_eq!((r.lo.y, r.hi.y), (shared.rect.lo.y, shared.rect.hi.y));
+            assert_eq!(l.lo.x, shared.rect.lo.x + shared.offsets.x);
+            assert_eq!(l.hi.x, shared.rect.hi.x + shared.offsets.y);
+            assert_eq!(r.lo.x, shared.rect.lo.x - shared.offsets.y);
+            assert_eq!(r.hi.x, shared.rect.hi.x - shared.offsets.x);
             ordinary += usize::from(!shared.special && shared.offsets.y > 0.0);
         }
         // Most spheres take the offset branch.

@@ -162,8 +162,8 @@ impl Rasterizer {
     /// Sets the largest sphere (pixels per side of its bounds) that the compute splat ray
     /// casts instead of drawing, for one eye's splat and an ODS pair's alike (by default
     /// [`DEFAULT_SPLAT_LIMIT`] and [`DEFAULT_PAIR_SPLAT_LIMIT`]); 0 draws every sphere. The
-    /// splat runs only for ray-cast
-    /// imposters on analytic bounds, on devices with 64-bit atomics; results must not change.
+    /// splat runs only for ray-cast imposters on analytic bounds, on devices with 64-bit
+    /// atomics; results must not change.
     pub fn set_splat_limit(&mut self, pixels: u32) {
         self.knobs.splat_limit = pixels;
         self.knobs.pair_splat_limit = pixels;
