@@ -142,16 +142,19 @@ fn ordinary_pixels(p: PointSphere) -> OrdinaryPixels {
     return eye_pixels(ordinary_bounds(p), p.view.eye_sign);
 }
 
-// `p`'s shared_bounds, `ok` where it is ordinary. An ODS view's two eyes share it: whether the
-// centre has a projection does not depend on the eye's sign either.
+// `p`'s shared_bounds, `ok` where it is ordinary (not special): an ODS view's two eyes share
+// it.
 struct OrdinaryBounds {
     ok: bool,
     bounds: SharedBounds,
 }
 
+// Bounds that are not special imply a projected centre (the ball lies off the viewing
+// cylinder, beyond every circle radius), so `has_projection` is not asked: it costs a merge
+// factor and an atan2 per point.
 fn ordinary_bounds(p: PointSphere) -> OrdinaryBounds {
     let none = OrdinaryBounds(false, SharedBounds(full_rect(), vec2<f32>(0.0), true));
-    if projection_of(params).kind != PROJ_EQUIRECT_FULL || !has_projection(p.view, p.centre) {
+    if projection_of(params).kind != PROJ_EQUIRECT_FULL {
         return none;
     }
     let b = shared_bounds(p.view, p.centre, p.radius);

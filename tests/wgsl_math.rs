@@ -318,7 +318,8 @@ fn wgsl_shading_matches_rust() {
 /// straddling the seam, 1 cm to 200 m away, some enclosing the eye. The special flag is
 /// equal and the corners agree to BOUNDS_TOL (longitudes modulo 2 pi). Spheres within f32
 /// noise of one of the branch tests (eye in the ball, ball meeting the viewing cylinder or
-/// the vertical axis) may take the other branch and are skipped (counted).
+/// the vertical axis) may take the other branch and are skipped (counted). Bounds that are
+/// not special have a projected centre, with no skipping.
 #[test]
 fn wgsl_sphere_bounds_match_rust() {
     let Some(raster) = rasterizer() else { return };
@@ -338,6 +339,7 @@ fn wgsl_sphere_bounds_match_rust() {
             let radius = centre.length() * log_uniform(&mut rng, 1e-4, 1.5);
             let c = f32x3(centre);
             ProbeItem {
+                point: c,
                 sphere: [c[0], c[1], c[2], radius as f32],
                 ..Default::default()
             }
@@ -353,6 +355,11 @@ fn wgsl_sphere_bounds_match_rust() {
             for (it, g) in items.iter().zip(&got) {
                 let s = f64x3([it.sphere[0], it.sphere[1], it.sphere[2]]);
                 let r = it.sphere[3] as f64;
+                // The splat takes bounds that are not special as a projected centre.
+                assert!(
+                    g.bounds_special || g.projected.is_some(),
+                    "{name} {eye:?} sphere {s:?} r {r}: ordinary bounds, centre unprojected"
+                );
                 if near_a_branch_test(&view, s, r) {
                     skipped += 1;
                     continue;

@@ -284,6 +284,61 @@ mod tests {
         assert!(ordinary > 1500, "{ordinary}");
     }
 
+    /// The splat (`ordinary_bounds` in splat.wgsl) relies on it: a ball whose bounds are not
+    /// special lies off the viewing cylinder, beyond every circle radius, so its centre
+    /// projects.
+    #[test]
+    fn bounds_that_are_not_special_have_a_projected_centre() {
+        let camera = Camera::new(DVec3::new(1.0, 2.0, 3.0), 30.0).with_orientation(10.0, 5.0);
+        let merge = crate::projection::PoleMerge::COMFORTABLE;
+        let stereos = [
+            Stereo::Mono,
+            Stereo::Parallel { ipd: 0.5 },
+            Stereo::Ods {
+                ipd: 0.5,
+                merging: PoleMerging::both(merge),
+                offset: OdsOffset::Exact,
+            },
+            Stereo::Ods {
+                ipd: 0.5,
+                merging: PoleMerging::OFF,
+                offset: OdsOffset::Exact,
+            },
+            Stereo::Ods {
+                ipd: 0.5,
+                merging: PoleMerging::OFF,
+                offset: OdsOffset::Paper,
+            },
+        ];
+        let mut rng = crate::rng::SplitMix64::new(11);
+        for stereo in stereos {
+            for eye in [Eye::Left, Eye::Right] {
+                let v = View::eye(camera, &stereo, eye);
+                let (mut ordinary, mut culled) = (0, 0);
+                for _ in 0..4000 {
+                    // Many centres near the viewing circle (radius 0.25), some inside it.
+                    let centre = DVec3::new(
+                        rng.range(-1.0, 1.0),
+                        rng.range(-1.0, 1.0),
+                        rng.range(-2.0, 2.0),
+                    );
+                    let radius = rng.range(0.001, 0.3);
+                    let projects = v.project(camera.center + centre).is_some();
+                    culled += usize::from(!projects);
+                    if !sphere_bounds(&v, centre, radius).special {
+                        ordinary += 1;
+                        assert!(projects, "{stereo:?} {eye:?} {centre} r {radius}");
+                    }
+                }
+                assert!(ordinary > 1000, "{stereo:?}: {ordinary} ordinary");
+                // Without merging, the centres inside the viewing circle have no projection.
+                if stereo == stereos[3] {
+                    assert!(culled > 100, "{stereo:?}: {culled} culled");
+                }
+            }
+        }
+    }
+
     #[test]
     fn special_cases() {
         let v = right_eye();
