@@ -527,6 +527,29 @@ pub(crate) mod tests {
         }
     }
 
+    /// `bench.json` is read back (`bench --compare`, scripts): every f64 must survive it bit
+    /// for bit, including values whose shortest decimal the default parser rounds wrongly.
+    #[test]
+    fn json_round_trips_every_f64_exactly() {
+        let mut report = sample_report();
+        report.modes[0].frame_ms = 0.473_516_000_000_000_05;
+        report.modes[0].mono_frame_ms = Some(0.473_516_000_000_000_1);
+        report.modes[1].accuracy.depth_rel_p99 = f64::from_bits(5); // subnormal
+        let text = serde_json::to_string(&report).unwrap();
+        let back: BenchReport = serde_json::from_str(&text).unwrap();
+        for (a, b) in report.modes.iter().zip(&back.modes) {
+            assert_eq!(a.frame_ms.to_bits(), b.frame_ms.to_bits());
+            assert_eq!(
+                a.mono_frame_ms.map(f64::to_bits),
+                b.mono_frame_ms.map(f64::to_bits)
+            );
+            assert_eq!(
+                a.accuracy.depth_rel_p99.to_bits(),
+                b.accuracy.depth_rel_p99.to_bits()
+            );
+        }
+    }
+
     #[test]
     fn csv_has_a_row_per_mode_with_every_column() {
         let mut bytes = Vec::new();
