@@ -7,11 +7,11 @@
 mod projection_strategies;
 
 use glam::DVec3;
-use omnicloud::projection::{
-    Camera, Eye, Image, Margins, OdsOffset, PoleMerging, Projection, Stereo, View, image_bounds,
-};
+use omnicloud::projection::{Camera, Image, Margins, Projection, View, image_bounds};
 use omnicloud::raytrace::sphere;
-use projection_strategies::profile;
+use projection_strategies::{
+    CENTRE, anywhere, between_longitudes, eye, eye_view, near_a_pole, near_the_eye, profile,
+};
 use proptest::prelude::*;
 
 /// Slack for pixel centres on a rectangle's edge: the rectangles and the rays are both f64,
@@ -41,14 +41,13 @@ fn image() -> impl Strategy<Value = Image> {
 /// Mono, or either eye with independent north and south profiles and an ipd from 3 cm to
 /// 30 cm; any heading, pitch and roll.
 fn view() -> impl Strategy<Value = View> {
-    let eye = prop_oneof![Just(None), Just(Some(Eye::Left)), Just(Some(Eye::Right))];
     let tilt = prop_oneof![
         Just((0.0, 0.0)),
         (-90.0..90.0f64, -180.0..180.0f64),
         Just((90.0, 0.0)),
     ];
     (
-        eye,
+        eye(),
         profile(),
         profile(),
         0.03..0.3f64,
@@ -56,58 +55,13 @@ fn view() -> impl Strategy<Value = View> {
         tilt,
     )
         .prop_map(|(eye, north, south, ipd, yaw, (pitch, roll))| {
-            let camera = Camera::new(DVec3::new(3.0, -2.0, 1.5), yaw).with_orientation(pitch, roll);
-            match eye {
-                None => View::mono(camera),
-                Some(eye) => {
-                    let stereo = Stereo::Ods {
-                        ipd,
-                        merging: PoleMerging { north, south },
-                        offset: OdsOffset::Exact,
-                    };
-                    View::eye(camera, &stereo, eye)
-                }
-            }
-        })
-}
-
-/// A sphere relative to C in world axes: `lam_deg`/`phi_deg` its direction (longitude from
-/// +Y towards +X), `dist` its distance, `rel` the radius over the distance.
-fn sphere_at(lam_deg: f64, phi_deg: f64, dist: f64, rel: f64) -> (DVec3, f64) {
-    let (l, p) = (lam_deg.to_radians(), phi_deg.to_radians());
-    let dir = DVec3::new(p.cos() * l.sin(), p.cos() * l.cos(), p.sin());
-    (dist * dir, dist * rel)
-}
-
-fn anywhere() -> impl Strategy<Value = (DVec3, f64)> {
-    (-180.0..180.0f64, -1.0..1.0f64, -1.3..1.7f64, -2.5..0.0f64).prop_map(|(l, z, ld, lr)| {
-        sphere_at(l, z.asin().to_degrees(), 10f64.powf(ld), 10f64.powf(lr))
-    })
-}
-
-fn near_a_pole() -> impl Strategy<Value = (DVec3, f64)> {
-    (
-        -180.0..180.0f64,
-        70.0..90.0f64,
-        prop::bool::ANY,
-        -1.0..1.3f64,
-        -2.0..-0.3f64,
-    )
-        .prop_map(|(l, p, south, ld, lr)| {
-            let p = if south { -p } else { p };
-            sphere_at(l, p, 10f64.powf(ld), 10f64.powf(lr))
+            let camera = Camera::new(CENTRE, yaw).with_orientation(pitch, roll);
+            eye_view(camera, eye, north, south, ipd)
         })
 }
 
 fn behind() -> impl Strategy<Value = (DVec3, f64)> {
-    (150.0..210.0f64, -60.0..60.0f64, -1.0..1.3f64, -2.0..-0.5f64)
-        .prop_map(|(l, p, ld, lr)| sphere_at(l, p, 10f64.powf(ld), 10f64.powf(lr)))
-}
-
-/// 2 cm to 60 cm from the centre: some enclose the eye's circle.
-fn near_the_eye() -> impl Strategy<Value = (DVec3, f64)> {
-    (-180.0..180.0f64, -1.0..1.0f64, 0.02..0.6f64, -1.5..-0.2f64)
-        .prop_map(|(l, z, d, lr)| sphere_at(l, z.asin().to_degrees(), d, 10f64.powf(lr)))
+    between_longitudes(150.0, 210.0)
 }
 
 /// Hit pixels, or the first hit pixel outside every rectangle.

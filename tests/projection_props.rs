@@ -6,10 +6,8 @@ mod projection_strategies;
 use std::f64::consts::TAU;
 
 use glam::DVec3;
-use omnicloud::projection::{
-    Camera, Equirect, Eye, OdsOffset, PoleMerge, PoleMerging, Stereo, View,
-};
-use projection_strategies::profile;
+use omnicloud::projection::{Camera, Equirect, Eye, PoleMerge, View};
+use projection_strategies::{CENTRE, eye, eye_view, profile};
 use proptest::prelude::*;
 
 const WIDTH: u32 = 3840;
@@ -28,22 +26,7 @@ fn column() -> impl Strategy<Value = f64> {
 }
 
 fn view(eye: Option<Eye>, north: PoleMerge, south: PoleMerge, ipd: f64, yaw: f64) -> View {
-    let camera = Camera::new(DVec3::new(3.0, -2.0, 1.5), yaw);
-    match eye {
-        None => View::mono(camera),
-        Some(eye) => {
-            let stereo = Stereo::Ods {
-                ipd,
-                merging: PoleMerging { north, south },
-                offset: OdsOffset::Exact,
-            };
-            View::eye(camera, &stereo, eye)
-        }
-    }
-}
-
-fn eye() -> impl Strategy<Value = Option<Eye>> {
-    prop_oneof![Just(None), Just(Some(Eye::Left)), Just(Some(Eye::Right))]
+    eye_view(Camera::new(CENTRE, yaw), eye, north, south, ipd)
 }
 
 /// Horizontal pixel distance, across the seam where shorter.

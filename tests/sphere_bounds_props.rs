@@ -12,7 +12,9 @@ use omnicloud::projection::{
     Camera, Equirect, Eye, OdsOffset, PoleMerging, Rect, Stereo, View, sphere_bounds,
 };
 use omnicloud::raytrace::sphere;
-use projection_strategies::profile;
+use projection_strategies::{
+    CENTRE, anywhere, between_longitudes, eye, eye_view, near_a_pole, near_the_eye, profile,
+};
 use proptest::prelude::*;
 
 /// 192 x 96: 1.9° per pixel, small enough for thousands of whole-image scans per second.
@@ -23,66 +25,16 @@ const WIDTH: u32 = 192;
 const EDGE: f64 = 1e-9;
 
 /// Mono, or either eye with independent north and south profiles and an ipd from 3 cm to
-/// 30 cm (wide rigs make the offset term large at this resolution).
+/// 30 cm (wide rigs make the offset term large at this resolution). Spheres are drawn in the
+/// yaw-0 camera frame; `sphere_in` turns them with the view.
 fn view() -> impl Strategy<Value = View> {
-    let eye = prop_oneof![Just(None), Just(Some(Eye::Left)), Just(Some(Eye::Right))];
-    (eye, profile(), profile(), 0.03..0.3f64, -360.0..360.0f64).prop_map(
-        |(eye, north, south, ipd, yaw)| {
-            let camera = Camera::new(DVec3::new(3.0, -2.0, 1.5), yaw);
-            match eye {
-                None => View::mono(camera),
-                Some(eye) => {
-                    let stereo = Stereo::Ods {
-                        ipd,
-                        merging: PoleMerging { north, south },
-                        offset: OdsOffset::Exact,
-                    };
-                    View::eye(camera, &stereo, eye)
-                }
-            }
-        },
+    (eye(), profile(), profile(), 0.03..0.3f64, -360.0..360.0f64).prop_map(
+        |(eye, north, south, ipd, yaw)| eye_view(Camera::new(CENTRE, yaw), eye, north, south, ipd),
     )
-}
-
-/// A sphere relative to the camera centre, in the camera frame (x right, y forward, z up) at
-/// yaw 0; `sphere_in` turns it with the view. `lam_deg`/`phi_deg` give the centre's direction,
-/// `dist` its distance and `rel` the radius over the distance.
-fn sphere_at(lam_deg: f64, phi_deg: f64, dist: f64, rel: f64) -> (DVec3, f64) {
-    let (l, p) = (lam_deg.to_radians(), phi_deg.to_radians());
-    let dir = DVec3::new(p.cos() * l.sin(), p.cos() * l.cos(), p.sin());
-    (dist * dir, dist * rel)
-}
-
-fn anywhere() -> impl Strategy<Value = (DVec3, f64)> {
-    (-180.0..180.0f64, -1.0..1.0f64, -1.3..1.7f64, -2.5..0.0f64).prop_map(|(l, z, ld, lr)| {
-        sphere_at(l, z.asin().to_degrees(), 10f64.powf(ld), 10f64.powf(lr))
-    })
-}
-
-fn near_a_pole() -> impl Strategy<Value = (DVec3, f64)> {
-    (
-        -180.0..180.0f64,
-        70.0..90.0f64,
-        prop::bool::ANY,
-        -1.0..1.3f64,
-        -2.0..-0.3f64,
-    )
-        .prop_map(|(l, p, south, ld, lr)| {
-            let p = if south { -p } else { p };
-            sphere_at(l, p, 10f64.powf(ld), 10f64.powf(lr))
-        })
 }
 
 fn across_the_seam() -> impl Strategy<Value = (DVec3, f64)> {
-    (175.0..185.0f64, -60.0..60.0f64, -1.0..1.3f64, -2.0..-0.5f64)
-        .prop_map(|(l, p, ld, lr)| sphere_at(l, p, 10f64.powf(ld), 10f64.powf(lr)))
-}
-
-/// 2 cm to 60 cm from the centre: some enclose the eye's circle, some meet the viewing
-/// cylinder, most sit where the offset term is largest.
-fn near_the_eye() -> impl Strategy<Value = (DVec3, f64)> {
-    (-180.0..180.0f64, -1.0..1.0f64, 0.02..0.6f64, -1.5..-0.2f64)
-        .prop_map(|(l, z, d, lr)| sphere_at(l, z.asin().to_degrees(), d, 10f64.powf(lr)))
+    between_longitudes(175.0, 185.0)
 }
 
 /// The sphere (`s` in the yaw-0 camera frame, radius) in the view's frame, relative to C.
