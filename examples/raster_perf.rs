@@ -4,8 +4,10 @@
 //! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
 //! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`; `splat` is
 //! the compute splat's limit in pixels, 0 off; `rt` also times the CPU ray tracer on the same
-//! cloud; `--shading unlit|phong|normal`, default phong). Prints the adapter, the timing source (GPU timestamps or wall clock) and, per
-//! mode, mono and ODS frame times.
+//! cloud; `--shading unlit|phong|normal`, default phong; `--seed N`, the cloud's seed; `--batch N`,
+//! a cap on the points per batch). Prints
+//! the adapter, the timing source (GPU timestamps or wall clock) and, per mode, mono and ODS
+//! frame times.
 
 use clap::{Parser, ValueEnum};
 use glam::{DVec3, Vec3};
@@ -13,17 +15,15 @@ use indicatif::ProgressBar;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::Rasterizer;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
+use omnicloud::rng::SplitMix64;
 use omnicloud::{Radii, Scene};
 
-/// A terrain-like cloud: a ground plane with bumps, walls and a few trees around the camera.
-fn cloud(n: usize) -> Scene {
-    let mut state = 0x9e3779b97f4a7c15u64;
-    let mut next = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f32 / (1u64 << 53) as f32
-    };
+/// A terrain-like cloud: a ground plane with bumps, walls and a few trees around the camera,
+/// drawn from `seed`. One wall passes through the camera, so the few spheres nearest it cover
+/// much of the image and a frame's time depends on where the seed puts them.
+fn cloud(n: usize, seed: u64) -> Scene {
+    let mut rng = SplitMix64::new(seed);
+    let mut next = move || rng.next_f64() as f32;
     let positions = (0..n)
         .map(|k| {
             let (x, y) = (next() * 200.0 - 100.0, next() * 200.0 - 100.0);
@@ -68,6 +68,12 @@ struct Args {
     /// Shading of both renderers.
     #[arg(long, default_value = "phong")]
     shading: Shading,
+    /// Cap on the points per expand/draw batch [as many as the vertex buffer holds].
+    #[arg(long)]
+    batch: Option<u32>,
+    /// Seed of the generated cloud.
+    #[arg(long, default_value_t = 0x9e37_79b9_7f4a_7c15)]
+    seed: u64,
 }
 
 /// The one value of the last argument.
@@ -85,12 +91,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         splat,
         rt,
         shading,
+        batch,
+        seed,
     } = Args::parse();
     let modes: Option<Vec<String>> =
         modes.map(|m| m.split(',').map(|s| s.to_lowercase()).collect());
     let t0 = std::time::Instant::now();
     let mut raster = Rasterizer::new()?;
     let setup_ms = t0.elapsed().as_secs_f64() * 1e3;
+    raster.set_batch_limit(batch);
     if let Some(limit) = splat {
         raster.set_splat_limit(limit);
     }
@@ -99,7 +108,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "adapter: {} (device and pipelines: {setup_ms:.0} ms)",
         raster.adapter_name()
     );
-    let scene = cloud(points);
+    let scene = cloud(points, seed);
     let mut base = RenderSettings::new(width, Camera::new(DVec3::ZERO, 0.0));
     base.color = ColorMode::Elevation;
     base.shading = shading;
