@@ -26,6 +26,11 @@ fn pole_merge_factor(p: PoleMerge, abs_phi: f32) -> f32 {
         } else {
             f = 0.0;
         }
+        // Outside the merge band the power is skipped: llvmpipe pays for it even at base 1
+        // unless every lane of its SIMD row skips it.
+        if f <= 0.0 {
+            return 1.0;
+        }
         let base = 1.0 - f;
         if base <= 0.0 {
             return 0.0;
