@@ -4,10 +4,9 @@
 //! (defaults: 1000000 points, 1920 wide, 3 frames, every mode; `modes` is a comma list
 //! of `proxy-imposter` names such as `bounds-raycast,quad-sprite,static4-sprite`; `splat` is
 //! the compute splat's limit in pixels, 0 off; `rt` also times the CPU ray tracer on the same
-//! cloud; `--shading unlit|phong|normal`, default phong; `--seed N`, the cloud's seed; `--batch N`,
-//! a cap on the points per batch). Prints
-//! the adapter, the timing source (GPU timestamps or wall clock) and, per mode, mono and ODS
-//! frame times.
+//! cloud; `--shading unlit|phong|normal`, default phong; `--seed N`, the cloud's seed;
+//! `--batch N`, a cap on the points per batch). Prints the adapter, the timing source (GPU
+//! timestamps or wall clock) and, per mode, mono and ODS frame times.
 
 use clap::{Parser, ValueEnum};
 use glam::{DVec3, Vec3};

@@ -527,8 +527,8 @@ pub(crate) mod tests {
         }
     }
 
-    /// `bench.json` is read back (`bench --compare`, scripts): every f64 must survive it bit
-    /// for bit, including values whose shortest decimal the default parser rounds wrongly.
+    /// `bench.json` is read back by scripts and tests: every f64 must survive it bit for bit,
+    /// including values whose shortest decimal serde_json's default parser rounds wrongly.
     #[test]
     fn json_round_trips_every_f64_exactly() {
         let mut report = sample_report();
