@@ -203,8 +203,8 @@ fn splat_point(p: PointSphere, idx: u32) -> u32 {
         splat_pixels(view, px, s, radius, idx);
         return SPLAT_DONE;
     }
-    if proj.kind != PROJ_MAP
-        && (!has_projection(view, s) || sphere_bounds(view, s, radius).special) {
+    // A centre without projection makes the bounds special (see `ordinary_bounds`).
+    if proj.kind != PROJ_MAP && sphere_bounds(view, s, radius).special {
         return SPLAT_LISTED;
     }
     let rects = image_bounds(view, proj, params.image_size, s, radius);
