@@ -1,6 +1,6 @@
 use std::process::ExitCode;
 
-use clap::Parser;
+use clap::CommandFactory;
 
 fn main() -> ExitCode {
     // Mesa's Vulkan drivers probe for a Wayland display when the instance is created and, on
@@ -9,8 +9,8 @@ fn main() -> ExitCode {
         // SAFETY: no other thread exists yet, so nothing can read the environment meanwhile.
         unsafe { std::env::set_var("XDG_RUNTIME_DIR", std::env::temp_dir()) };
     }
-    let cli = omnicloud::cli::Cli::parse();
-    match omnicloud::cli::run(cli) {
+    let matches = omnicloud::cli::Cli::command().get_matches();
+    match omnicloud::cli::run(&matches) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", omnicloud::cli::error_message(&e));

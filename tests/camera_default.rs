@@ -2,7 +2,7 @@
 //! within the clearance of the eye, ground below, at the sparse-data eye height.
 
 use indicatif::ProgressBar;
-use omnicloud::prepare::placement::{clearance, default_eye_height};
+use omnicloud::prepare::placement::{EYE_HEIGHT, clearance, default_eye_height};
 use omnicloud::prepare::radius::median_spacing;
 use omnicloud::prepare::{CameraChoice, PrepareOptions, prepare};
 
@@ -18,7 +18,7 @@ fn default_camera_on_the_sample_has_open_space_around_the_eye() {
     .unwrap();
     let scene = &prepared.scene;
     let spacing = median_spacing(scene).unwrap();
-    let height = default_eye_height(Some(spacing));
+    let height = default_eye_height(Some(spacing), EYE_HEIGHT);
     // The scene is centred on the camera: distances to the eye are the points' lengths.
     let nearest = scene
         .positions
@@ -71,7 +71,7 @@ fn a_given_height_stands_that_far_above_the_ground() {
     let low = prepare(
         AUTZEN.as_ref(),
         &PrepareOptions {
-            height: Some(1.7),
+            height: omnicloud::prepare::EyeHeight::new(Some(1.7), 1.0),
             ..PrepareOptions::default()
         },
         &ProgressBar::hidden(),

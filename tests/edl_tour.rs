@@ -47,12 +47,16 @@ fn tour_frames_with_the_picture_options_are_what_render_writes() {
         "--edl=1",
         "--edl-radius=1.4",
         "--supersample=2",
-        "--background=32,64,96",
+        "'--background=#204060'",
+        "--units=metres",
     ] {
         assert!(command.contains(needle), "{command}");
     }
-    // The recorded command, its output redirected (no word of it needs quoting here).
-    let mut words: Vec<String> = command.split(' ').map(str::to_string).collect();
+    // The recorded command, its output redirected (no quoted word holds a space here).
+    let mut words: Vec<String> = command
+        .split(' ')
+        .map(|w| w.trim_matches('\'').to_string())
+        .collect();
     let o_at = words.iter().position(|w| w == "-o").unwrap();
     let again = dir.path().join("again.png");
     words[o_at + 1] = again.display().to_string();

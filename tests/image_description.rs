@@ -40,6 +40,7 @@ fn described(projection: &str, eyes: StoredEyes) -> Option<ImageDescription> {
     Some(ImageDescription {
         projection: projection.parse::<Projection>().unwrap(),
         eyes,
+        metres_per_unit: None,
     })
 }
 

@@ -300,10 +300,18 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
     let stderr = render(&autzen, &[]);
     assert!(
         stderr.contains(&format!(
-            "{note}{}: its coordinate system gives x and y in foot (0.3048 m), and omnicloud reads \
-             coordinates as metres: every length it takes (--ipd, --height, --radius, \
+            "{note}{}: x, y in foot (0.3048 m); z not declared; lengths in metres (1 m = 3.2808 \
+             ft), so the view is life-size (--units file takes them in the file's unit)\n",
+            autzen.display()
+        )),
+        "{stderr}"
+    );
+    let stderr = render(&autzen, &["--units", "file", "--stereo", "ods"]);
+    assert!(
+        stderr.contains(&format!(
+            "{note}{}: with --units file every length (--ipd, --height, --radius, \
              --max-distance, a tour's --speed) is in foot here, so the default rig is 3.28 times \
-             too small for the scene; for a life-size view give --ipd 0.210 --height 5.58",
+             too small for the scene; drop --units file for a life-size view: --ipd 0.064 ft\n",
             autzen.display()
         )),
         "{stderr}"

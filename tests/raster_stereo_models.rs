@@ -111,8 +111,12 @@ fn parallel_stress_scene_equals_the_ray_tracer() {
 fn parallel_real_sample_equals_the_ray_tracer() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
     let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, None)
-        .expect("camera placed");
+    placement::center_on_camera(
+        &mut scene,
+        omnicloud::prepare::CameraChoice::Center,
+        Default::default(),
+    )
+    .expect("camera placed");
     scene.radii = Radii::Uniform(radius::auto_radius(&scene));
     let camera = Camera::new(DVec3::ZERO, 0.0);
     agree(

@@ -32,8 +32,12 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
         .join("../shared/data")
         .join(rel);
     let (mut scene, _) = load_scene(&path, &LoadOptions::default()).unwrap();
-    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, None)
-        .unwrap();
+    placement::center_on_camera(
+        &mut scene,
+        omnicloud::prepare::CameraChoice::Center,
+        Default::default(),
+    )
+    .unwrap();
     scene.radii = omnicloud::Radii::Uniform(radius::auto_radius(&scene));
     let mut settings = RenderSettings::new(width, Camera::new(glam::DVec3::ZERO, 0.0));
     settings.color = if scene.attributes.rgb.is_some() {

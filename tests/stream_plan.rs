@@ -233,9 +233,12 @@ fn write_terrain(path: &Path, laz: bool) {
 /// The in-core decisions, through the public pieces `prepare::prepare` uses.
 fn in_core(path: &Path) -> (Scene, DVec3, f32) {
     let (mut scene, _) = load_scene(path, &LoadOptions::default()).unwrap();
-    let camera =
-        placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Auto, None)
-            .unwrap();
+    let camera = placement::center_on_camera(
+        &mut scene,
+        omnicloud::prepare::CameraChoice::Auto,
+        Default::default(),
+    )
+    .unwrap();
     let radius = omnicloud::prepare::radius::apply_choice(&mut scene, None).radius;
     (scene, camera, radius)
 }

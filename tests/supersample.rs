@@ -103,7 +103,7 @@ fn the_sample_supersampled_keeps_its_silhouette_and_both_renderers_agree() {
     omnicloud::prepare::placement::center_on_camera(
         &mut scene,
         omnicloud::prepare::CameraChoice::Center,
-        None,
+        Default::default(),
     )
     .unwrap();
     scene.radii = omnicloud::Radii::Uniform(omnicloud::prepare::radius::auto_radius(&scene));

@@ -18,7 +18,7 @@ use http_common::{Reply, get, send};
 use indicatif::ProgressBar;
 use omnicloud::Scene;
 use omnicloud::prepare::placement::{EYE_HEIGHT, ground_camera_position};
-use omnicloud::prepare::{PrepareOptions, prepare};
+use omnicloud::prepare::{EyeHeight, PrepareOptions, prepare};
 use omnicloud::projection::{Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::raster::{RasterError, Rasterizer};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
@@ -30,6 +30,9 @@ const WIDTH: u32 = 256;
 
 /// Under the tree canopy west of the bridge, where much of the scan lies above 45° latitude.
 const UNDER_TREES: (f64, f64) = (636291.76, 849305.2);
+
+/// The sample counts in international feet.
+const FEET_PER_METRE: f64 = 1.0 / 0.3048;
 
 fn sample() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
@@ -55,9 +58,12 @@ fn scene() -> &'static Scene {
 /// A live server of the sample at `width`; `None` (after the GPU rule's notice) without an
 /// adapter.
 fn start(width: u32) -> Option<Running> {
+    // As `serve` reads the sample: its IPD in metres, its coordinates in feet.
     let options = LiveOptions {
         width,
         map_size: 256,
+        per_metre: FEET_PER_METRE,
+        metres_per_unit: Some(0.3048),
         ..LiveOptions::default()
     };
     let scan = LiveScan::new(&sample(), scene().clone(), options).unwrap();
@@ -217,7 +223,8 @@ fn a_render_is_the_library_render_at_the_camera_it_reports() {
         image: Image::equirect(WIDTH),
         camera: Camera::new(camera - scene.origin, 0.0),
         stereo: Stereo::Ods {
-            ipd: 0.07,
+            // The page's 0.07 m in the sample's feet.
+            ipd: 0.07 * FEET_PER_METRE,
             merging: PoleMerging {
                 north: PoleMerge::Marrinan {
                     start_deg: 60.0,
@@ -356,7 +363,10 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
     let addr: SocketAddr = url.parse().unwrap();
     assert!(addr.ip().is_loopback(), "{addr}");
     let scan: serde_json::Value = serde_json::from_slice(&get(addr, "/api/scan").body).unwrap();
-    assert_eq!(scan["height"], 2.5);
+    // 2.5 m in the sample's feet; the page's IPD in metres.
+    assert_eq!(scan["height"], 2.5 * FEET_PER_METRE);
+    assert_eq!(scan["metres_per_unit"], 0.3048);
+    assert_eq!(scan["ipd"], 0.064);
     let r = get(addr, "/api/render?seq=1");
     assert_eq!(r.status, 200, "{}", r.text());
     let camera = camera_header(&r);
@@ -366,12 +376,19 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
         start,
         "the page starts where /api/scan says"
     );
-    // 2.5 m above the ground there, 0.8 m above the default eye height.
-    let at_eye_height = camera_header(&get(shared().unwrap(), "/api/render"));
-    assert_eq!(camera.truncate(), at_eye_height.truncate());
-    assert!(
-        (camera.z - at_eye_height.z - 0.8).abs() < 1e-9,
-        "{camera} vs {at_eye_height}"
+    // Where `omnicloud render --height 2.5` stands its automatic camera.
+    let render = prepare(
+        &sample(),
+        &PrepareOptions {
+            height: EyeHeight::new(Some(2.5 * FEET_PER_METRE), FEET_PER_METRE),
+            ..PrepareOptions::default()
+        },
+        &ProgressBar::hidden(),
+    )
+    .unwrap();
+    assert_eq!(
+        camera, render.camera_world,
+        "the page starts where render stands"
     );
 
     let status = Command::new("kill")

@@ -196,6 +196,10 @@ pub struct BenchReport {
     pub projection: String,
     /// `mono` or `ods`.
     pub stereo: String,
+    /// Metres per unit of the scene's coordinates (its IPD and radii are in that unit);
+    /// `None` when the scan declares no unit of length.
+    #[serde(default)]
+    pub metres_per_unit: Option<f64>,
     /// The GPU adapter (name and backend).
     pub adapter: String,
     /// Frames rendered before timing, per mode.
@@ -516,6 +520,7 @@ pub(crate) mod tests {
             height: 32,
             projection: "equirect".into(),
             stereo: "mono".into(),
+            metres_per_unit: Some(0.3048),
             adapter: "test adapter".into(),
             warmup_frames: 1,
             timed_frames: 3,

@@ -211,6 +211,7 @@ pub fn run_bench_with(
         height: settings.image.height,
         projection: settings.image.projection.to_string(),
         stereo: stereo_name(&settings.stereo).to_string(),
+        metres_per_unit: None,
         adapter: rasterizer.adapter_name().to_string(),
         warmup_frames: config.warmup_frames,
         timed_frames: config.timed_frames,

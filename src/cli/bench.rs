@@ -1,18 +1,72 @@
 //! `omnicloud bench`: one scan, or the stability suite, through every rasterizer mode.
 
+use std::path::PathBuf;
+
 use anyhow::{Result, anyhow, bail};
+use clap::Args;
 use glam::DVec3;
 use indicatif::ProgressBar;
 
-use crate::bench::{self, BenchConfig};
+use crate::bench::{self, BenchConfig, BenchMode};
 use crate::io::Up;
 use crate::prepare::filter::ReturnFilter;
 use crate::prepare::prepare;
 use crate::projection::Image;
 use crate::render::{ColorMode, RenderSettings};
 
-use super::args::{BenchArgs, ViewArgs};
-use super::progress;
+use super::options::ViewArgs;
+use super::{parse, progress};
+
+/// Options of `omnicloud bench`.
+#[derive(Debug, Clone, Args)]
+pub struct BenchArgs {
+    /// A LAS, LAZ or PLY file to benchmark (or use --suite).
+    #[arg(required_unless_present = "suite", conflicts_with = "suite")]
+    pub scene: Option<PathBuf>,
+    /// Benchmark every scene of the stability suite in DIR (its suite.json).
+    #[arg(long, value_name = "DIR")]
+    pub suite: Option<PathBuf>,
+    /// Image width per eye [1920 for a scan; the manifest's width for --suite].
+    #[arg(long, value_parser = parse::width)]
+    pub width: Option<u32>,
+    /// Scene, camera and stereo (with --suite only --stereo and its ODS options: the manifest
+    /// places each view, and the scene and camera options are refused).
+    #[command(flatten)]
+    pub view: ViewArgs,
+    /// Modes to time, comma-separated, as PROXY+IMPOSTER (e.g. quad+sprite,bounds+raycast)
+    /// [all ten].
+    #[arg(long, value_delimiter = ',', value_parser = BenchMode::parse)]
+    pub modes: Option<Vec<BenchMode>>,
+    /// Frames rendered before timing starts.
+    #[arg(long, default_value = "2")]
+    pub warmup: usize,
+    /// Frames timed per mode (the report gives their median).
+    #[arg(long, default_value = "5", value_parser = clap::value_parser!(u64).range(1..=1000))]
+    pub frames: u64,
+    /// Output folder for bench.json, bench.csv, bench.md and the charts.
+    #[arg(long, default_value = "bench_out")]
+    pub out: PathBuf,
+    /// With a stereo setting, do not time a mono frame after each stereo frame (the report's
+    /// "stereo / mono" row): halves the run.
+    #[arg(long)]
+    pub no_mono_baseline: bool,
+    /// Compare stereo methods instead of timing rasterizer modes: exact ODS, the paper's
+    /// per-vertex offset, parallel cameras and cube maps, ray traced; charts their angular
+    /// disparity error against exact ODS by longitude and latitude.
+    #[arg(long, conflicts_with_all = ["suite", "modes"])]
+    pub stereo_methods: bool,
+    /// Cube-map face sizes for --stereo-methods.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "256,512,1024",
+        value_name = "N,N,..."
+    )]
+    pub cubemap_faces: Vec<u32>,
+    /// No progress bar or summary.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
 
 /// Width used for a scan when `--width` is not given.
 const DEFAULT_WIDTH: u32 = 1920;
@@ -58,6 +112,7 @@ fn ignored_by_suite(view: &ViewArgs) -> Vec<&'static str> {
         ("--returns", view.returns != ReturnFilter::default()),
         ("--crop", view.crop.is_some()),
         ("--max-distance", view.max_distance.is_some()),
+        ("--units", view.units != crate::prepare::Units::default()),
     ]
     .into_iter()
     .filter_map(|(name, set)| set.then_some(name))
@@ -65,7 +120,25 @@ fn ignored_by_suite(view: &ViewArgs) -> Vec<&'static str> {
 }
 
 /// Runs `omnicloud bench`.
-pub fn run(args: &BenchArgs) -> Result<()> {
+pub fn run(given: &BenchArgs) -> Result<()> {
+    // A scan's lengths are converted from `--units` to its unit; a suite's scenes are metric.
+    let scale = match &given.scene {
+        Some(file) if given.suite.is_none() => {
+            Some(given.view.length_scale(&crate::io::read_info(file)?))
+        }
+        _ => None,
+    };
+    let converted;
+    let args = match &scale {
+        Some(scale) => {
+            converted = BenchArgs {
+                view: given.view.in_file_units(scale),
+                ..given.clone()
+            };
+            &converted
+        }
+        None => given,
+    };
     if args.suite.is_some() {
         let ignored = ignored_by_suite(&args.view);
         if !ignored.is_empty() {
@@ -108,7 +181,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             }
         };
         let prepared = prepare(file, &args.view.prepare_options(), &ProgressBar::hidden())?;
-        super::say_load_notes(file, &prepared.report, &say);
+        super::notes::say_load_notes(file, &prepared.report, &say);
+        let scale = scale.expect("a scan's scale");
+        super::notes::say_units(
+            &prepared.report.info,
+            &scale,
+            &given.view.given_lengths(),
+            &say,
+        );
         let c = prepared.camera_world;
         say(format!(
             "{}: {} points, camera at ({:.3}, {:.3}, {:.3})",
@@ -135,7 +215,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         if args.stereo_methods {
             return stereo_methods(args, &prepared.scene, &base, &pb);
         }
-        let report = bench::run_bench(&name, &prepared.scene, &base, &config, &pb)?;
+        let mut report = bench::run_bench(&name, &prepared.scene, &base, &config, &pb)?;
+        report.metres_per_unit = scale.metres_per_unit;
         pb.finish_and_clear();
         let files = bench::write_outputs(&report, &args.out)?;
         vec![

@@ -1,11 +1,17 @@
 //! The command-line edge: parses arguments, runs a subcommand, reports errors with `anyhow`.
 
-pub mod args;
 mod bench;
+pub mod command;
+mod compare;
 pub mod info;
+mod interrupt;
+mod notes;
+pub mod options;
 pub mod parse;
 mod progress;
 mod render;
+pub mod render_args;
+mod render_command;
 mod render_guard;
 mod render_stream;
 mod serve;
@@ -15,29 +21,30 @@ mod view;
 
 use anyhow::Result;
 
-pub use args::{Cli, Command};
+pub use command::{Cli, Command};
 pub use serve::ServeArgs;
 pub use tour::TourArgs;
 pub use view::ViewerArgs;
 
-/// Runs one parsed command line.
-pub fn run(cli: Cli) -> Result<()> {
+/// Runs one command line, as clap matched it against [`Cli`].
+///
+/// # Errors
+/// The command's; the matches not being [`Cli`]'s.
+pub fn run(matches: &clap::ArgMatches) -> Result<()> {
+    use clap::FromArgMatches;
+    let cli = Cli::from_arg_matches(matches)?;
     match cli.command {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
-        Command::Compare(args) => {
-            let report = crate::compare::compare_files(
-                &args.reference,
-                &args.test,
-                args.report.as_deref(),
-                args.heatmap.as_deref(),
-            )?;
-            println!("{report}");
-            Ok(())
-        }
+        Command::Compare(args) => compare::run(&args),
         Command::View(args) => view::run(&args),
-        Command::Tour(args) => tour::run(&args),
+        Command::Tour(args) => tour::run(
+            &args,
+            matches
+                .subcommand_matches("tour")
+                .expect("the tour command's matches"),
+        ),
         Command::Serve(args) => serve::run(&args),
         Command::Video(args) => video::run(&args),
     }
@@ -56,22 +63,6 @@ pub fn error_message(error: &anyhow::Error) -> String {
         }
     }
     message
-}
-
-/// Says, through `say`, what the load of `file` means for the user: the units note of its
-/// coordinate system ([`crate::prepare::units_note`]) and the points dropped for NaN/inf
-/// coordinates.
-fn say_load_notes(file: &std::path::Path, report: &crate::io::LoadReport, say: &impl Fn(String)) {
-    if let Some(note) = crate::prepare::units_note(&report.info) {
-        say(format!("note: {note}"));
-    }
-    if report.dropped_nonfinite > 0 {
-        say(format!(
-            "warning: dropped {} points with NaN/inf coordinates from {}",
-            report.dropped_nonfinite,
-            file.display()
-        ));
-    }
 }
 
 #[cfg(test)]

@@ -9,19 +9,19 @@ use indicatif::ProgressBar;
 
 use crate::compare::disparity_image::{comfort, left_eye_disparity};
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
-use crate::prepare::{
-    CameraChoice, FilterCounts, PrepareOptions, Prepared, prepare_files, subsample,
-};
+use crate::prepare::{CameraChoice, PrepareOptions, Prepared, prepare_files, subsample};
 use crate::projection::Image;
 use crate::render::{RenderSettings, RendererKind};
 use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};
 
-use super::args::RenderArgs;
 use super::progress;
+use super::render_args::RenderArgs;
 
-/// Runs `omnicloud render`.
-pub fn run(args: &RenderArgs) -> Result<()> {
+/// Runs `omnicloud render`: lengths converted from `--units` to the first input's unit.
+pub fn run(given: &RenderArgs) -> Result<()> {
+    let scale = given.length_scale()?;
+    let args = &given.in_file_units(&scale);
     // Check output names before the (long) render, not after it.
     let format = ImageFormat::from_path(&args.output)?;
     let stereo = args.view.eyes() == 2;
@@ -92,7 +92,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         }
     };
 
-    crate::cli::render_guard::install_interrupt_handler();
+    super::interrupt::install_interrupt_handler();
+    super::notes::say_units(
+        &crate::io::read_info(&args.file)?,
+        &scale,
+        &given.given_lengths(),
+        &say,
+    );
     if !args.more_files.is_empty() {
         warn_mixed_crs(args, &say)?;
     }
@@ -133,6 +139,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         jpeg_quality: args.quality,
         yaw_degrees: args.view.yaw,
         projection: args.view.projection,
+        metres_per_unit: scale.metres_per_unit,
     };
     let mut written = output::write_image_with(&args.output, &rendered, &options)?;
     if let Some(d) = &args.depth {
@@ -140,9 +147,16 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if let (Some(out), true) = (out_image, args.disparity.is_some() || args.comfort) {
         let disparity = left_eye_disparity(&rendered, &settings, &out, None);
-        let half_ipd = 0.5 * settings.stereo.ipd();
+        // Perceived distances in metres (angles do not change with the unit of length): the
+        // lengths as given, or in file units converted.
+        let metres = |given: f64, file: f64| match scale.units {
+            crate::prepare::Units::Metres => given,
+            crate::prepare::Units::File => scale.to_metres(file).unwrap_or(file),
+        };
+        let half_ipd = 0.5 * metres(given.view.ipd, settings.stereo.ipd());
+        let near = metres(given.comfort_near, args.comfort_near);
         let wraps = out.projection.is_full_equirect();
-        let comfort = comfort(&disparity, half_ipd, args.comfort_near, wraps);
+        let comfort = comfort(&disparity, half_ipd, near, wraps);
         eprintln!("{comfort}");
         if let Some(path) = &args.disparity {
             output::disparity_exr::write_disparity_exr(path, &disparity)?;
@@ -203,21 +217,6 @@ fn warn_mixed_crs(args: &RenderArgs, say: &impl Fn(String)) -> Result<()> {
     Ok(())
 }
 
-/// Says what each filter removed, when any filter was asked for.
-pub(super) fn say_filtered(
-    args: &RenderArgs,
-    filtered: &FilterCounts,
-    kept: u64,
-    say: &impl Fn(String),
-) {
-    if !args.prepare_options().filter.keeps_all() {
-        say(format!(
-            "filters: {filtered}; {kept} of {} points kept",
-            kept + filtered.total()
-        ));
-    }
-}
-
 /// True when the file name already marks a top-bottom 360° image (`_360_TB`, any case).
 fn names_top_bottom(path: &Path) -> bool {
     path.file_stem()
@@ -249,8 +248,8 @@ fn load_whole(args: &RenderArgs, origin: Option<DVec3>, say: &impl Fn(String)) -
     if let Some(lod) = &prepared.lod {
         say(format!("{}: {lod}", args.inputs_name()));
     }
-    super::say_load_notes(Path::new(&args.inputs_name()), &prepared.report, say);
-    say_filtered(args, &prepared.filtered, prepared.scene.len() as u64, say);
+    super::notes::say_load_notes(Path::new(&args.inputs_name()), &prepared.report, say);
+    args.say_filtered(&prepared.filtered, prepared.scene.len() as u64, say);
     Ok(prepared)
 }
 
@@ -347,8 +346,8 @@ fn ray_trace(
             scene.len() as u64,
         )?;
     }
-    super::say_load_notes(Path::new(&args.inputs_name()), &report, say);
-    say_filtered(args, &filtered, scene.len() as u64, say);
+    super::notes::say_load_notes(Path::new(&args.inputs_name()), &report, say);
+    args.say_filtered(&filtered, scene.len() as u64, say);
     if let Some(how) = args.subsample {
         let before = scene.len();
         scene = subsample::apply(&scene, how, &settings.camera, settings.image.width);

@@ -1,5 +1,4 @@
-//! The render command's safeguards: the memory cap checked before loading, and the
-//! Ctrl-C handler that removes unfinished outputs.
+//! The render command's safeguard: the memory cap checked before loading.
 
 use anyhow::Result;
 
@@ -7,7 +6,7 @@ use crate::memory::{self, check_budget};
 use crate::prepare::Subsample;
 use crate::render::RendererKind;
 
-use super::args::RenderArgs;
+use super::render_args::RenderArgs;
 
 /// The cap in force and whether it is the default.
 fn cap(args: &RenderArgs) -> Option<(u64, bool)> {
@@ -98,17 +97,4 @@ pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Sce
     );
     check_budget(&args.file, &estimate, cap, is_default)?;
     Ok(())
-}
-
-/// On Ctrl-C (or SIGTERM): delete staged output files and exit with status 130 and one line.
-/// Outputs are written to a temporary name and renamed when complete, so after this no
-/// partial file remains. Installing twice (tests, library use) is harmless.
-pub(super) fn install_interrupt_handler() {
-    let _ = ctrlc::set_handler(|| {
-        let removed = crate::output::remove_staged_files();
-        eprintln!(
-            "omnicloud: interrupted; no partial output left ({removed} unfinished file(s) removed)"
-        );
-        std::process::exit(130);
-    });
 }

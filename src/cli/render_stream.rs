@@ -14,8 +14,8 @@ use crate::render::RenderSettings;
 use crate::scene::Scene;
 use crate::stream::{self, ChunkSink, PlanOptions, StreamError};
 
-use super::args::RenderArgs;
 use super::progress;
+use super::render_args::RenderArgs;
 
 /// Draws each streamed chunk, thinned first when `--subsample` asks.
 struct RasterSink<'r> {
@@ -91,9 +91,6 @@ pub(super) fn rasterize(
             args.inputs_name()
         ));
     }
-    if let Some(note) = crate::prepare::units_note(&plan.info) {
-        say(format!("note: {note}"));
-    }
     let unit = plan.info.length_symbol();
     say(format!(
         "{}: {} points, radius {}, camera at ({:.3}, {:.3}, {:.3}); planned from {} in {:.2?}",
@@ -139,7 +136,7 @@ pub(super) fn rasterize(
     let report = stream::stream_file(&plan, chunk_points, &mut sink, &pb)
         .with_context(|| format!("rendering {}", args.inputs_name()))?;
     pb.finish_and_clear();
-    super::render::say_filtered(args, &report.filtered, report.drawn, say);
+    args.say_filtered(&report.filtered, report.drawn, say);
     let drawn = sink.frame.points();
     let (rendered, stats, _) = sink.frame.finish()?;
     say(format!(

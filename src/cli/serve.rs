@@ -8,7 +8,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::io::Up;
-use crate::prepare::{PrepareOptions, RadiusChoice, prepare};
+use crate::prepare::{EyeHeight, LengthScale, PrepareOptions, RadiusChoice, Units, prepare};
+use crate::projection::Stereo;
 use crate::render::{ColorMode, Shading};
 use crate::web::serve::{LiveOptions, LiveScan, LiveServer};
 
@@ -29,9 +30,11 @@ pub struct ServeArgs {
     /// Panorama width per eye; the ODS pair is WIDTH x WIDTH (top-bottom).
     #[arg(long, default_value = "2048", value_parser = parse::width)]
     pub width: u32,
-    /// Camera height above the ground where the map is clicked, metres.
-    #[arg(long, default_value = "1.7", value_parser = eye_height, allow_hyphen_values = true)]
-    pub height: f64,
+    /// Camera height above the ground, metres, at the start and where the map is clicked
+    /// [default: 1.7, or 20 median point spacings when higher (sparse aerial data), as
+    /// `render` places its eye].
+    #[arg(long, value_name = "H", value_parser = eye_height, allow_hyphen_values = true)]
+    pub height: Option<f64>,
     /// The map's longer side, pixels.
     #[arg(long, default_value = "1024", value_parser = clap::value_parser!(u32).range(16..=8192))]
     pub map_size: u32,
@@ -43,6 +46,10 @@ pub struct ServeArgs {
     /// Up axis of the file.
     #[arg(long, value_enum, ignore_case = true, default_value = "z")]
     pub up: Up,
+    /// What the lengths given (--height, --radius, the page's IPD) are in: metres, converted
+    /// to the unit the file's coordinate system declares, or the file's own unit.
+    #[arg(long, value_enum, ignore_case = true, default_value = "metres")]
+    pub units: Units,
     /// Point colour (auto: rgb when present, else elevation).
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub color: ColorMode,
@@ -72,22 +79,36 @@ fn eye_height(s: &str) -> Result<f64, String> {
 /// Serves `args.file` until Ctrl-C.
 pub fn run(args: &ServeArgs) -> Result<()> {
     let started = Instant::now();
+    let scale = LengthScale::for_info(&crate::io::read_info(&args.file)?, args.units, args.up);
+    let height = EyeHeight::new(args.height.map(|h| scale.height(h)), scale.height(1.0));
     let options = PrepareOptions {
-        // The served page places the camera itself; its default stands at the centre.
-        camera: crate::prepare::CameraChoice::Center,
+        // The page starts where `render`'s automatic camera stands.
+        camera: crate::prepare::CameraChoice::Auto,
+        height,
         up: args.up,
-        radius: args.radius,
+        radius: args.radius.map(|r| match r {
+            RadiusChoice::Fixed(m) => RadiusChoice::Fixed(scale.length(f64::from(m)) as f32),
+            other => other,
+        }),
         ..PrepareOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "loading");
     let prepared = prepare(&args.file, &options, &pb)?;
     pb.finish_and_clear();
-    super::say_load_notes(&args.file, &prepared.report, &|m| eprintln!("{m}"));
+    let say = |m: String| eprintln!("{m}");
+    super::notes::say_load_notes(&args.file, &prepared.report, &say);
+    let mut given = vec![("IPD", Stereo::DEFAULT_IPD)];
+    if let Some(h) = args.height {
+        given.push(("--height", h));
+    }
+    super::notes::say_units(&prepared.report.info, &scale, &given, &say);
     let unit = prepared.report.info.length_symbol();
     let radius = prepared.radii.describe(&unit);
     let live = LiveOptions {
         width: args.width,
-        height: args.height,
+        height: height.over(crate::prepare::radius::median_spacing(&prepared.scene)),
+        per_metre: scale.length(1.0),
+        metres_per_unit: scale.metres_per_unit,
         color: args.color,
         shading: args.shading,
         map_size: args.map_size,

@@ -6,20 +6,21 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
-use clap::{Args, ValueEnum};
+use clap::Args;
 
 use crate::memory;
-use crate::projection::{Image, StereoKind};
-use crate::render::{Proxy, RendererKind};
+use crate::prepare::LengthScale;
+use crate::projection::Image;
+use crate::render::RendererKind;
 use crate::tour::{
     self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
 };
 
-use super::args::{DrawArgs, LookArgs, ViewArgs};
+use super::options::{DrawArgs, LookArgs, ViewArgs};
 use super::progress;
 
 /// Options of `omnicloud tour`.
-#[derive(Debug, Args)]
+#[derive(Debug, Clone, Args)]
 #[command(
     mut_arg("yaw", |a| a.help(
         "Degrees added to every frame's heading (90 looks right of the direction of travel)"
@@ -36,9 +37,10 @@ pub struct TourArgs {
     /// Output folder for frame_000000.png ... and tour.json.
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: PathBuf,
-    /// Eye height above the ground where the path gives no z, metres.
-    #[arg(long, default_value = "1.7", value_parser = parse_height)]
-    pub height: f64,
+    /// Eye height above the ground where the path gives no z, metres [default: 1.7, or 20
+    /// median point spacings when higher (sparse aerial data), as `render` places its eye].
+    #[arg(long, value_name = "H", value_parser = parse_height)]
+    pub height: Option<f64>,
     /// Walking speed along the path, metres per second.
     #[arg(long, default_value = "1.4", value_parser = parse_positive)]
     pub speed: f64,
@@ -90,6 +92,36 @@ pub struct TourArgs {
     pub video: Option<PathBuf>,
 }
 
+impl TourArgs {
+    /// These options with every length (`--height`, `--speed`, `--heading-smoothing` and
+    /// [`ViewArgs::in_file_units`]'s) converted by `scale` into file units.
+    pub fn in_file_units(&self, scale: &LengthScale) -> TourArgs {
+        if self.view.scale.is_some() {
+            return self.clone();
+        }
+        TourArgs {
+            height: self.height.map(|h| scale.height(h)),
+            speed: scale.length(self.speed),
+            heading_smoothing: scale.length(self.heading_smoothing),
+            view: self.view.in_file_units(scale),
+            ..self.clone()
+        }
+    }
+
+    /// [`ViewArgs::given_lengths`] with `--height` when given and `--speed` when it spaces
+    /// the frames.
+    pub fn given_lengths(&self) -> Vec<(&'static str, f64)> {
+        let mut given = self.view.given_lengths();
+        if let Some(h) = self.height {
+            given.push(("--height", h));
+        }
+        if self.frames.is_none() {
+            given.push(("--speed", self.speed));
+        }
+        given
+    }
+}
+
 fn parse_positive(s: &str) -> Result<f64, String> {
     let v = crate::value::finite(s, "a positive number")?;
     if v > 0.0 {
@@ -112,8 +144,10 @@ fn parse_height(s: &str) -> Result<f64, String> {
     crate::value::finite(s, "metres above the ground")
 }
 
-/// Runs `omnicloud tour`.
-pub fn run(args: &TourArgs) -> Result<()> {
+/// Runs `omnicloud tour`: lengths converted from `--units` to the scan's unit.
+pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
+    let scale = given.view.length_scale(&crate::io::read_info(&given.file)?);
+    let args = &given.in_file_units(&scale);
     let say = |msg: String| {
         if !args.quiet {
             eprintln!("{msg}");
@@ -145,14 +179,14 @@ pub fn run(args: &TourArgs) -> Result<()> {
             s
         }
     };
-    crate::cli::render_guard::install_interrupt_handler();
+    super::interrupt::install_interrupt_handler();
     check_memory(args)?;
 
     let request = TourRequest {
         scan: args.file.clone(),
         path: args.path.clone(),
         prepare: args.view.prepare_options(),
-        height: args.height,
+        height: args.view.eye_height(args.height),
         sampling: match args.frames {
             Some(n) => Sampling::Frames(n as usize),
             None => Sampling::Speed {
@@ -170,11 +204,19 @@ pub fn run(args: &TourArgs) -> Result<()> {
     let planned = tour::plan(&request, &pb);
     pb.finish_and_clear();
     let planned = planned?;
-    super::say_load_notes(&args.file, &planned.load_report, &say);
+    super::notes::say_load_notes(&args.file, &planned.load_report, &say);
+    super::notes::say_units(
+        &planned.load_report.info,
+        &scale,
+        &given.given_lengths(),
+        &say,
+    );
     let total = planned.poses.len();
+    let unit = planned.load_report.info.length_symbol();
     say(format!(
-        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {} through {} keyframes: \
-         {total} frames (prepared in {:.2?})",
+        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {unit} through {} keyframes, \
+         eye {:.2} {unit} above the ground where it gives no z: {total} frames (prepared in \
+         {:.2?})",
         args.file.display(),
         planned.scene.len(),
         planned.origin.x,
@@ -182,8 +224,8 @@ pub fn run(args: &TourArgs) -> Result<()> {
         planned.origin.z,
         args.path.display(),
         planned.length,
-        planned.load_report.info.length_symbol(),
         planned.keyframes.len(),
+        planned.eye_height,
         started.elapsed()
     ));
 
@@ -201,8 +243,12 @@ pub fn run(args: &TourArgs) -> Result<()> {
         jpeg_quality: args.quality,
         fps: args.fps,
         overwrite: args.overwrite,
-        render_command: render_command(args),
+        render_command: super::render_command::render_command(
+            &given.file.display().to_string(),
+            matches,
+        ),
         look: args.look.look(),
+        metres_per_unit: scale.metres_per_unit,
     };
     let manifest = tour::run::manifest(&request, &planned, &options);
     let written = manifest.write(&args.output)?;
@@ -346,101 +392,6 @@ fn check_memory(args: &TourArgs) -> Result<()> {
     Ok(())
 }
 
-/// `omnicloud render SCAN` with every option that shapes a frame, as a tour renders it.
-fn render_command(args: &TourArgs) -> Vec<String> {
-    let name = |v: &dyn Fn() -> Option<clap::builder::PossibleValue>| {
-        v().map(|p| p.get_name().to_string()).unwrap_or_default()
-    };
-    let mut a: Vec<String> = vec![
-        "omnicloud".into(),
-        "render".into(),
-        args.file.display().to_string(),
-        format!("--width={}", args.draw.width),
-    ];
-    let stereo = args.view.stereo.unwrap_or_default();
-    a.push(format!("--stereo={stereo}"));
-    a.push(format!("--projection={}", args.view.projection));
-    if matches!(stereo, StereoKind::Parallel | StereoKind::Cubemap(_)) {
-        a.push(format!("--ipd={}", args.view.ipd));
-    }
-    if stereo == StereoKind::Ods {
-        let view = &args.view;
-        a.push(format!("--ipd={}", view.ipd));
-        let merging = view.merging();
-        a.push(format!("--pole-merge-north={}", merging.north));
-        a.push(format!("--pole-merge-south={}", merging.south));
-        a.push(format!(
-            "--ods-offset={}",
-            name(&|| view.ods_offset.to_possible_value())
-        ));
-        if let Some(map) = view.depth_map {
-            a.push(format!("--depth-map={map}"));
-        }
-    }
-    if let Some(r) = args.view.radius {
-        a.push(format!("--radius={r}"));
-    }
-    a.push(format!(
-        "--up={}",
-        name(&|| args.view.up.to_possible_value())
-    ));
-    if let Some(c) = args.view.classes {
-        a.push(format!("--classes={c}"));
-    }
-    if let Some(c) = args.view.drop_classes {
-        a.push(format!("--drop-classes={c}"));
-    }
-    a.push(format!(
-        "--returns={}",
-        name(&|| args.view.returns.to_possible_value())
-    ));
-    if let Some(c) = args.view.crop {
-        a.push(format!(
-            "--crop={},{},{},{}",
-            c.min.x, c.min.y, c.max.x, c.max.y
-        ));
-    }
-    if let Some(m) = args.view.max_distance {
-        a.push(format!("--max-distance={m}"));
-    }
-    // A tour keeps every point resident; a COPC file's per-camera level of detail would not.
-    a.push("--lod=off".into());
-    a.push(format!(
-        "--color={}",
-        name(&|| args.draw.color.to_possible_value())
-    ));
-    a.push(format!(
-        "--shading={}",
-        name(&|| args.draw.shading.to_possible_value())
-    ));
-    a.push(format!(
-        "--renderer={}",
-        name(&|| args.draw.renderer.to_possible_value())
-    ));
-    if args.draw.renderer == RendererKind::Raster {
-        a.push(format!("--proxy={}", proxy(args.draw.proxy)));
-        a.push(format!(
-            "--imposter={}",
-            name(&|| args.draw.imposter.to_possible_value())
-        ));
-    }
-    a.extend(args.look.render_options());
-    if args.format == FrameFormat::Jpg {
-        a.push(format!("--quality={}", args.quality));
-    }
-    a
-}
-
-/// A proxy as `--proxy` reads it back.
-fn proxy(p: Proxy) -> String {
-    match p {
-        Proxy::Quad => "quad".into(),
-        Proxy::Static(n) => format!("static:{n}"),
-        Proxy::Dynamic => "dynamic".into(),
-        Proxy::Bounds => "bounds".into(),
-    }
-}
-
 /// Sorted frame numbers as ranges: `0-3, 7, 9-10`.
 fn ranges(frames: &[usize]) -> String {
     let mut out: Vec<String> = Vec::new();
@@ -479,7 +430,7 @@ mod tests {
     #[test]
     fn defaults_match_the_documentation() {
         let t = parse(&[]);
-        assert_eq!((t.height, t.speed, t.fps), (1.7, 1.4, 30.0));
+        assert_eq!((t.height, t.speed, t.fps), (None, 1.4, 30.0));
         assert_eq!(
             (t.frames, t.format, t.shard),
             (None, FrameFormat::Png, None)
@@ -493,46 +444,6 @@ mod tests {
                 .chain(bad);
             assert!(Cli::try_parse_from(argv).is_err(), "{bad:?}");
         }
-    }
-
-    #[test]
-    fn the_render_command_reads_back_as_the_same_settings() {
-        let t = parse(&[
-            "--stereo",
-            "ods",
-            "--pole-merge",
-            "cycles:55.5,70",
-            "--pole-merge-south",
-            "off",
-            "--radius",
-            "0.25",
-            "--proxy",
-            "static:8",
-            "--width",
-            "512",
-            "--color",
-            "elevation",
-            "--depth-map",
-            "0.5=1.5,4=6.25",
-        ]);
-        let mut argv = render_command(&t);
-        argv.extend(["-o".into(), "x.png".into(), "--yaw=-12.5".into()]);
-        let Command::Render(r) = Cli::try_parse_from(&argv).unwrap().command else {
-            panic!("not render")
-        };
-        assert_eq!(r.view.stereo_mode(), t.view.stereo_mode());
-        assert_eq!(r.view.depth_map().unwrap(), t.view.depth_map().unwrap());
-        assert!(r.view.depth_map.is_some());
-        assert_eq!(r.view.radius, t.view.radius);
-        assert_eq!(
-            (r.draw.proxy, r.draw.width, r.draw.color),
-            (t.draw.proxy, 512, t.draw.color)
-        );
-        assert_eq!(
-            (r.draw.shading, r.draw.renderer, r.draw.imposter),
-            (t.draw.shading, t.draw.renderer, t.draw.imposter)
-        );
-        assert_eq!(r.view.yaw, -12.5);
     }
 
     #[test]

@@ -98,6 +98,10 @@ pub struct ImageDescription {
     pub projection: Projection,
     /// The eyes stored.
     pub eyes: StoredEyes,
+    /// Metres per unit of the scan's coordinates (0.3048 for a scan in feet): the scale the
+    /// image's depths, and the IPD that made its stereo, are measured in. `None` when the
+    /// scan declares no unit of length.
+    pub metres_per_unit: Option<f64>,
 }
 
 impl ImageDescription {
@@ -107,7 +111,8 @@ impl ImageDescription {
     }
 }
 
-/// `projection=P eyes=E`, `P` as `--projection` parses it.
+/// `projection=P eyes=E metres_per_unit=M`, `P` as `--projection` parses it, the scale
+/// only when known.
 impl fmt::Display for ImageDescription {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
@@ -115,16 +120,21 @@ impl fmt::Display for ImageDescription {
             "projection={} eyes={}",
             self.projection,
             self.eyes.name()
-        )
+        )?;
+        match self.metres_per_unit {
+            Some(m) => write!(f, " metres_per_unit={m}"),
+            None => Ok(()),
+        }
     }
 }
 
-/// Parses what [`fmt::Display`] writes; fields in any order, both required, no others.
+/// Parses what [`fmt::Display`] writes; fields in any order, projection and eyes required,
+/// no others.
 impl FromStr for ImageDescription {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
-        let (mut projection, mut eyes) = (None, None);
+        let (mut projection, mut eyes, mut metres_per_unit) = (None, None, None);
         for field in s.split_whitespace() {
             let (key, value) = field
                 .split_once('=')
@@ -132,11 +142,26 @@ impl FromStr for ImageDescription {
             match key {
                 "projection" => projection = Some(value.parse::<Projection>()?),
                 "eyes" => eyes = Some(value.parse::<StoredEyes>()?),
+                "metres_per_unit" => {
+                    metres_per_unit = Some(
+                        value
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|m| m.is_finite() && *m > 0.0)
+                            .ok_or_else(|| {
+                                format!("metres_per_unit must be a positive number, got `{value}`")
+                            })?,
+                    )
+                }
                 _ => return Err(format!("unknown field `{key}`")),
             }
         }
         match (projection, eyes) {
-            (Some(projection), Some(eyes)) => Ok(ImageDescription { projection, eyes }),
+            (Some(projection), Some(eyes)) => Ok(ImageDescription {
+                projection,
+                eyes,
+                metres_per_unit,
+            }),
             (None, _) => Err("no projection= field".into()),
             (_, None) => Err("no eyes= field".into()),
         }
@@ -272,7 +297,12 @@ mod tests {
                 assert_eq!(d.to_string(), text);
             }
         }
+        let feet = "projection=equirect eyes=top-bottom metres_per_unit=0.3048";
+        let d: ImageDescription = feet.parse().unwrap();
+        assert_eq!(d.metres_per_unit, Some(0.3048));
+        assert_eq!(d.to_string(), feet);
         let d: ImageDescription = "eyes=mono  projection=cylindrical:90".parse().unwrap();
+        assert_eq!(d.metres_per_unit, None);
         assert_eq!(d.projection, Projection::Cylindrical { vfov_deg: 90.0 });
         assert!(!d.is_panorama());
         assert!(
@@ -292,5 +322,14 @@ mod tests {
         assert!(err("projection=equirect eyes=both").contains("top-bottom"));
         assert!(err("projection=equirect eyes=mono extra").contains("KEY=VALUE"));
         assert!(err("projection=equirect eyes=mono tint=red").contains("unknown field `tint`"));
+        for bad in ["0", "-1", "nan", "foot"] {
+            let e = err(&format!(
+                "projection=equirect eyes=mono metres_per_unit={bad}"
+            ));
+            assert!(
+                e.contains("metres_per_unit must be a positive number"),
+                "{e}"
+            );
+        }
     }
 }

@@ -90,6 +90,7 @@ pub fn encode_exr(
     let description = ImageDescription {
         projection: Projection::EQUIRECT,
         eyes,
+        metres_per_unit: None,
     };
     encode_exr_with(views, content, &description, out, path)
 }

@@ -49,6 +49,9 @@ pub struct OutputOptions {
     /// full 360° x 180° equirect carries the metadata that tells players the image is a
     /// panorama (GPano, VR Photo, EXR `envmap`).
     pub projection: Projection,
+    /// Metres per unit of the scan's coordinates, written into every file's description;
+    /// `None` when the scan declares no unit of length.
+    pub metres_per_unit: Option<f64>,
 }
 
 impl OutputOptions {
@@ -62,6 +65,7 @@ impl OutputOptions {
         ImageDescription {
             projection: self.projection,
             eyes,
+            metres_per_unit: self.metres_per_unit,
         }
     }
 }
@@ -73,6 +77,7 @@ impl Default for OutputOptions {
             jpeg_quality: super::jpeg::DEFAULT_QUALITY,
             yaw_degrees: 0.0,
             projection: Projection::EQUIRECT,
+            metres_per_unit: None,
         }
     }
 }

@@ -3,6 +3,7 @@
 //! take; [`subsample`] thins a prepared scene for a given render.
 
 pub mod filter;
+pub mod lengths;
 pub mod lod;
 pub mod map_extent;
 pub mod placement;
@@ -18,8 +19,9 @@ use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_files_with_progress
 use crate::scene::Scene;
 
 pub use filter::{FilterCounts, FilterError, PointFilter};
+pub use lengths::{LengthScale, Units};
 pub use lod::{Lod, LodChoice, LodReport};
-pub use placement::CameraChoice;
+pub use placement::{CameraChoice, EyeHeight};
 pub use radius::{RadiusChoice, RadiusRule};
 pub use subsample::Subsample;
 
@@ -29,9 +31,9 @@ pub struct PrepareOptions {
     /// Where the camera goes: open space near the centre (default), the centre, or a world
     /// position (file coordinates) ([`placement::camera_position`]).
     pub camera: CameraChoice,
-    /// Eye height above the local ground for the automatic choices, metres; `None` =
-    /// [`placement::default_eye_height`].
-    pub height: Option<f64>,
+    /// Eye height above the local ground for the automatic choices, in file units (given, or
+    /// the default rule for a person's eye height in the file's unit).
+    pub height: EyeHeight,
     /// Up axis of the file.
     pub up: Up,
     /// Sphere radius; `None` = the file's per-point radii when it has them, else auto
@@ -84,24 +86,38 @@ pub enum PrepareError {
     Filter(#[from] FilterError),
 }
 
-/// A note for renders of a file whose coordinate system puts x and y in a unit of length
-/// other than the metre (`info`'s): coordinates are read as metres, so the rig (`--ipd`,
-/// `--height`) and the other lengths are taken in that unit; it says what to give for a
-/// life-size view. `None` for metres, degrees or no declared unit.
-pub fn units_note(info: &crate::io::FileInfo) -> Option<String> {
+/// A note for renders of a file whose coordinate system does not count in metres: with
+/// [`Units::Metres`], that the lengths given are converted (the view is life-size); with
+/// [`Units::File`], that they are taken in the file's unit and what to give for a life-size
+/// view; for degrees, that lengths cannot be converted. `None` for metric files and files
+/// that declare no unit.
+pub fn units_note(info: &crate::io::FileInfo, scale: &LengthScale) -> Option<String> {
     let units = info.units();
-    let unit = units.non_metric_across()?;
-    let per_metre = 1.0 / unit.metres;
-    Some(format!(
-        "{}: its coordinate system gives x and y in {unit}, and omnicloud reads coordinates as \
-         metres: every length it takes (--ipd, --height, --radius, --max-distance, a tour's \
-         --speed) is in {} here, so the default rig is {per_metre:.2} times too small for the \
-         scene; for a life-size view give --ipd {:.3} --height {:.2}",
-        info.path.display(),
-        unit.name,
-        crate::projection::Stereo::DEFAULT_IPD * per_metre,
-        placement::EYE_HEIGHT * per_metre,
-    ))
+    let path = info.path.display();
+    if matches!(units.across, crate::io::Across::Degrees) {
+        return Some(format!(
+            "{path}: {units}: lengths (--ipd, --height, --radius, --max-distance) cannot be \
+             converted to degrees and are taken as coordinate units"
+        ));
+    }
+    match scale.units {
+        Units::Metres if scale.converts() => Some(format!(
+            "{path}: {units}; {scale}, so the view is life-size (--units file takes them in the \
+             file's unit)"
+        )),
+        Units::Metres => None,
+        Units::File => {
+            let unit = units.non_metric_across()?;
+            let per_metre = 1.0 / unit.metres;
+            Some(format!(
+                "{path}: with --units file every length (--ipd, --height, --radius, \
+                 --max-distance, a tour's --speed) is in {} here, so the default rig is \
+                 {per_metre:.2} times too small for the scene; drop --units file for a \
+                 life-size view",
+                unit.name,
+            ))
+        }
+    }
 }
 
 /// Loads `path`, places the camera (given, or automatic), moves the local zero onto the

@@ -21,6 +21,49 @@ pub const SPACING_HEIGHTS: f64 = 20.0;
 /// Share of the eye height kept free of points around the eye ([`clearance`]).
 pub const CLEARANCE_SHARE: f64 = 0.6;
 
+/// The eye height a placement stands the camera at, in file units: the one given
+/// (`--height`), else the default rule ([`default_eye_height`]) for a person whose eye stands
+/// `person` file units above the ground ([`EYE_HEIGHT`] metres in the file's unit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EyeHeight {
+    /// The height given, file units.
+    pub given: Option<f64>,
+    /// A person's eye height, file units.
+    pub person: f64,
+}
+
+impl Default for EyeHeight {
+    /// No height given, a person's eye [`EYE_HEIGHT`] file units up (a metric file).
+    fn default() -> Self {
+        EyeHeight {
+            given: None,
+            person: EYE_HEIGHT,
+        }
+    }
+}
+
+impl EyeHeight {
+    /// `given` (file units) or the default rule, for a file whose up axis counts `per_metre`
+    /// units a metre.
+    pub fn new(given: Option<f64>, per_metre: f64) -> Self {
+        EyeHeight {
+            given,
+            person: EYE_HEIGHT * per_metre,
+        }
+    }
+
+    /// The height given, else a person's eye height (`--camera center`).
+    pub fn or_person(self) -> f64 {
+        self.given.unwrap_or(self.person)
+    }
+
+    /// The height given, else [`default_eye_height`] over a cloud of median `spacing`.
+    pub fn over(self, spacing: Option<f32>) -> f64 {
+        self.given
+            .unwrap_or_else(|| default_eye_height(spacing, self.person))
+    }
+}
+
 /// Where the camera goes (`--camera`).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub enum CameraChoice {
@@ -69,8 +112,9 @@ impl FromStr for CameraChoice {
     }
 }
 
-/// The default eye height above the ground for a cloud of median point `spacing` (metres):
-/// [`EYE_HEIGHT`], or [`SPACING_HEIGHTS`] spacings when that is higher.
+/// The default eye height above the ground for a cloud of median point `spacing`: a
+/// `person`'s eye height ([`EYE_HEIGHT`] metres, in the file's unit), or [`SPACING_HEIGHTS`]
+/// spacings when that is higher.
 ///
 /// A ground sphere straight below the eye, of radius half the spacing, then spans at most
 /// 2·atan(1/40) ≈ 2.9° (1/126 of the panorama's width, 31 px at 3840) whatever the width
@@ -78,10 +122,8 @@ impl FromStr for CameraChoice {
 /// scans (spacing under 8.5 cm) keep a person's eye height; the 1.3 m-spaced aerial sample
 /// puts the eye 27 m up, where its ground reads as a surface instead of a few dozen bubbles
 /// the size of a car (10 spacings, 13 m, still filled the lower half with bubbles).
-pub fn default_eye_height(spacing: Option<f32>) -> f64 {
-    spacing.map_or(EYE_HEIGHT, |s| {
-        EYE_HEIGHT.max(SPACING_HEIGHTS * f64::from(s))
-    })
+pub fn default_eye_height(spacing: Option<f32>, person: f64) -> f64 {
+    spacing.map_or(person, |s| person.max(SPACING_HEIGHTS * f64::from(s)))
 }
 
 /// Distance from the eye that `auto` keeps free of points, for an eye `height` metres above the
@@ -136,7 +178,7 @@ pub fn open_ground_camera_position(scene: &Scene) -> DVec3 {
 pub fn center_on_camera(
     scene: &mut Scene,
     choice: CameraChoice,
-    height: Option<f64>,
+    height: EyeHeight,
 ) -> Option<DVec3> {
     let world = match choice {
         CameraChoice::At(c) => c,
@@ -148,9 +190,9 @@ pub fn center_on_camera(
 
 /// The camera position (local frame) a choice gives over the scene's own bounds: `auto`
 /// `height` above the ground (default [`default_eye_height`]), at the centre when no spot is
-/// open; `center` `height` (default [`EYE_HEIGHT`]) above the ground at the centre, as
+/// open; `center` `height` (default a person's eye height) above the ground at the centre, as
 /// [`auto_camera_position`]. `None` for an empty scene.
-pub fn camera_position(scene: &Scene, choice: CameraChoice, height: Option<f64>) -> Option<DVec3> {
+pub fn camera_position(scene: &Scene, choice: CameraChoice, height: EyeHeight) -> Option<DVec3> {
     if let CameraChoice::At(c) = choice {
         return Some(c - scene.origin);
     }
@@ -167,7 +209,7 @@ pub fn camera_position_in(
     centre: Vec2,
     extent: f32,
     choice: CameraChoice,
-    height: Option<f64>,
+    height: EyeHeight,
 ) -> Option<DVec3> {
     if let CameraChoice::At(c) = choice {
         return Some(c - scene.origin);
@@ -177,10 +219,10 @@ pub fn camera_position_in(
             .map(|g| DVec3::new(f64::from(centre.x), f64::from(centre.y), g + height))
     };
     if choice == CameraChoice::Center {
-        return at_centre(height.unwrap_or(EYE_HEIGHT));
+        return at_centre(height.or_person());
     }
     let spacing = crate::prepare::radius::median_spacing(scene);
-    let height = height.unwrap_or_else(|| default_eye_height(spacing));
+    let height = height.over(spacing);
     open_camera_position(scene, centre, extent, height, spacing).or_else(|| at_centre(height))
 }
 
@@ -407,9 +449,9 @@ mod tests {
 
     #[test]
     fn eye_height_rises_over_sparse_data() {
-        assert_eq!(default_eye_height(None), EYE_HEIGHT);
-        assert_eq!(default_eye_height(Some(0.05)), EYE_HEIGHT);
-        assert!((default_eye_height(Some(1.3)) - 26.0).abs() < 1e-5);
+        assert_eq!(default_eye_height(None, EYE_HEIGHT), EYE_HEIGHT);
+        assert_eq!(default_eye_height(Some(0.05), EYE_HEIGHT), EYE_HEIGHT);
+        assert!((default_eye_height(Some(1.3), EYE_HEIGHT) - 26.0).abs() < 1e-5);
         assert!((clearance(1.7) - 1.02).abs() < 1e-12);
     }
 
@@ -436,14 +478,19 @@ mod tests {
             pts.push(Vec3::new(10.0 + r * a.cos(), 10.0 + r * a.sin(), z));
         }
         let scene = Scene::new(DVec3::ZERO, pts, 0.1);
-        let centre = camera_position(&scene, CameraChoice::Center, None).unwrap();
+        let centre = camera_position(&scene, CameraChoice::Center, EyeHeight::default()).unwrap();
         assert!(
             (centre.truncate() - glam::DVec2::splat(10.0)).length() < 1e-5,
             "{centre}"
         );
         assert!(nearest(&scene, centre) < 0.5, "{centre}");
         let height = EYE_HEIGHT;
-        let auto = camera_position(&scene, CameraChoice::Auto, Some(height)).unwrap();
+        let auto = camera_position(
+            &scene,
+            CameraChoice::Auto,
+            EyeHeight::new(Some(height), 1.0),
+        )
+        .unwrap();
         let clear = nearest(&scene, auto);
         assert!(clear > clearance(height), "{auto}: nearest point {clear}");
         assert!((auto.z - height).abs() < 1e-5, "{auto}");
@@ -451,7 +498,8 @@ mod tests {
         let off = auto.truncate().distance(glam::DVec2::splat(10.0));
         assert!((3.0..6.0).contains(&off), "{auto}");
         // A given height stands that far above the ground.
-        let high = camera_position(&scene, CameraChoice::Auto, Some(6.0)).unwrap();
+        let high =
+            camera_position(&scene, CameraChoice::Auto, EyeHeight::new(Some(6.0), 1.0)).unwrap();
         assert!((high.z - 6.0).abs() < 1e-5, "{high}");
         assert!(nearest(&scene, high) > clearance(6.0));
     }
@@ -460,13 +508,18 @@ mod tests {
     fn auto_does_not_stand_over_a_hole_in_the_ground() {
         // No ground within 4 m of the centre: the eye moves to where ground lies below.
         let scene = Scene::new(DVec3::ZERO, ground(-2.0, 4.0), 0.1);
-        let auto = camera_position(&scene, CameraChoice::Auto, Some(EYE_HEIGHT)).unwrap();
+        let auto = camera_position(
+            &scene,
+            CameraChoice::Auto,
+            EyeHeight::new(Some(EYE_HEIGHT), 1.0),
+        )
+        .unwrap();
         let off = auto.truncate().distance(glam::DVec2::splat(10.0));
         // Ground within two spacings (0.4 m) of the eye's foot.
         assert!((3.6..5.5).contains(&off), "{auto}");
         assert!((auto.z - -0.3).abs() < 1e-4, "{auto}");
         // Without a height: 20 spacings (4 m) up.
-        let auto = camera_position(&scene, CameraChoice::Auto, None).unwrap();
+        let auto = camera_position(&scene, CameraChoice::Auto, EyeHeight::default()).unwrap();
         assert!((auto.z - 2.0).abs() < 1e-3, "{auto}");
     }
 

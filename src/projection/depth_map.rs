@@ -141,6 +141,19 @@ impl DepthMap {
         self.len == 0
     }
 
+    /// The same map with every distance times `factor` (positive): its pairs measured in
+    /// another unit of length.
+    pub fn scaled(&self, factor: f64) -> DepthMap {
+        let mut map = *self;
+        for v in map.b[..map.len]
+            .iter_mut()
+            .chain(map.d[..map.len].iter_mut())
+        {
+            *v *= factor;
+        }
+        map
+    }
+
     /// The pairs `(Bi, Di)` in order.
     pub fn pairs(&self) -> impl Iterator<Item = (f64, f64)> + '_ {
         self.b[..self.len]

@@ -506,11 +506,13 @@ fn plan_sampled(
             let extent = (extent_hi - extent_lo).truncate().max_element() as f32;
             // A survey reads blocks of the file, not every point near the eye: it cannot tell
             // open space, so `auto` stands at the centre at its default height.
+            let given = options.prepare.height;
             let height = match choice {
-                CameraChoice::Auto => Some(options.prepare.height.unwrap_or_else(|| {
-                    placement::default_eye_height(radius::median_spacing(&scene))
-                })),
-                _ => options.prepare.height,
+                CameraChoice::Auto => placement::EyeHeight {
+                    given: Some(given.over(radius::median_spacing(&scene))),
+                    ..given
+                },
+                _ => given,
             };
             origin
                 + placement::camera_position_in(

@@ -41,10 +41,15 @@ pub struct TourManifest {
     pub path: String,
     /// Frames per second of playback.
     pub fps: f64,
-    /// Metres per second when frames are spaced by speed; `None` with a frame count.
+    /// File units per second when frames are spaced by speed (`--speed`, given in metres
+    /// per second, converted); `None` with a frame count.
     pub speed: Option<f64>,
-    /// Length of the curve, metres.
+    /// Length of the curve, file units.
     pub length: f64,
+    /// Metres per file unit: the scale of `speed`, `length`, the positions and the rig's IPD;
+    /// `None` when the scan declares no unit of length.
+    #[serde(default)]
+    pub metres_per_unit: Option<f64>,
     /// Frame file width, pixels.
     pub width: u32,
     /// Frame file height, pixels (both eyes for [`StereoLayout::TopBottom`]).
@@ -161,6 +166,7 @@ mod tests {
             fps: 30.0,
             speed: Some(1.4),
             length: 10.0,
+            metres_per_unit: Some(0.3048),
             width: 256,
             height: 256,
             stereo_layout: StereoLayout::TopBottom,

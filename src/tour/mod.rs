@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec3, Vec2};
 use indicatif::ProgressBar;
 
-use crate::prepare::{PrepareError, PrepareOptions, prepare};
+use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare};
 use crate::scene::Scene;
 
 pub use manifest::{FrameRecord, StereoLayout, TourManifest, read_manifest};
@@ -39,8 +39,10 @@ pub struct TourRequest {
     pub path: PathBuf,
     /// How the scan is read (its `camera` and `origin` are the tour's to set).
     pub prepare: PrepareOptions,
-    /// Eye height above the ground where the path gives no z, metres.
-    pub height: f64,
+    /// Eye height above the ground where the path gives no z, file units: the one given, or
+    /// `render`'s rule (a person's eye height, raised to 20 median point spacings over
+    /// sparse data).
+    pub height: EyeHeight,
     /// Frame spacing.
     pub sampling: Sampling,
     /// Metres of path the tangent heading is averaged over (0: the tangent itself).
@@ -62,8 +64,10 @@ pub struct Tour {
     pub origin: DVec3,
     /// Keyframes with their heights resolved, file coordinates (duplicates dropped).
     pub keyframes: Vec<DVec3>,
-    /// Length of the curve, metres.
+    /// Length of the curve, file units.
     pub length: f64,
+    /// Eye height above the ground where the path gives no z, file units.
+    pub eye_height: f64,
     /// Every frame's camera.
     pub poses: Vec<Pose>,
     /// What loading the scan did (points dropped for bad coordinates).
@@ -133,6 +137,9 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
             .expect("a prepared scene has at least one point");
         (origin + lo.as_dvec3(), origin + hi.as_dvec3())
     });
+    let height = request
+        .height
+        .over(crate::prepare::radius::median_spacing(&scene));
     let ground = ground::GroundIndex::new(&scene);
     // A path without any height walks over the ground; one with some heights keeps them
     // and puts only the missing ones on the ground.
@@ -171,7 +178,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
                         k.at, k.x, k.y
                     ))
                 })?;
-                origin.z + ground + request.height
+                origin.z + ground + height
             }
         };
         resolved.push(DVec3::new(k.x, k.y, z));
@@ -210,7 +217,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
                 p.x, p.y
             ))
         })?;
-        let z = |s: f64| origin.z + profile.at(s) + request.height;
+        let z = |s: f64| origin.z + profile.at(s) + height;
         for pose in &mut poses {
             pose.position[2] = z(pose.arc_length);
         }
@@ -223,6 +230,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         origin,
         keyframes: resolved,
         length: curve.length(),
+        eye_height: height,
         poses,
         load_report,
     })

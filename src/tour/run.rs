@@ -65,6 +65,9 @@ pub struct RunOptions {
     /// Passes on each rendered frame (eye-dome lighting, supersampling, background);
     /// `settings.image` is the output size, the renderer draws the look's render size.
     pub look: Look,
+    /// Metres per unit of the scan's coordinates (recorded in the manifest and each frame's
+    /// description); `None` when the scan declares no unit of length.
+    pub metres_per_unit: Option<f64>,
 }
 
 impl RunOptions {
@@ -160,6 +163,7 @@ pub fn manifest(request: &TourRequest, tour: &Tour, options: &RunOptions) -> Tou
             super::Sampling::Frames(_) => None,
         },
         length: tour.length,
+        metres_per_unit: options.metres_per_unit,
         width: image.width,
         height: image.height * eyes,
         stereo_layout: if eyes == 2 {
@@ -208,6 +212,7 @@ pub fn render_frames(
             jpeg_quality: options.jpeg_quality,
             yaw_degrees: settings.camera.yaw_deg,
             projection: settings.image.projection,
+            metres_per_unit: options.metres_per_unit,
         };
         let path = options.frame_path(index);
         output::write_image_with(&path, &rendered, &out)?;

@@ -21,8 +21,12 @@ pub use gpu::rasterizer;
 pub fn autzen_at_centre() -> Scene {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
     let (mut scene, _) = load_scene(path.as_ref(), &LoadOptions::default()).expect("sample loads");
-    placement::center_on_camera(&mut scene, placement::CameraChoice::Center, None)
-        .expect("camera placed");
+    placement::center_on_camera(
+        &mut scene,
+        placement::CameraChoice::Center,
+        Default::default(),
+    )
+    .expect("camera placed");
     scene.radii = Radii::Uniform(radius::auto_radius(&scene));
     scene
 }

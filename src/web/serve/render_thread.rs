@@ -243,14 +243,14 @@ impl Renderer {
 }
 
 /// The settings a live render uses: an ODS pair at the served width from `camera` (local
-/// frame), heading north, with the request's IPD and pole merging and the scan's colour and
+/// frame), heading north, with the request's IPD (metres, in the scan's unit) and pole merging and the scan's colour and
 /// shading; proxy and imposter as `omnicloud render` defaults them.
 pub fn live_settings(scan: &LiveScan, camera: DVec3, request: &RenderRequest) -> RenderSettings {
     RenderSettings {
         image: Image::equirect(scan.options.width),
         camera: Camera::new(camera, 0.0),
         stereo: Stereo::Ods {
-            ipd: request.ipd,
+            ipd: request.ipd * scan.options.per_metre,
             merging: request.merging,
             offset: OdsOffset::Exact,
         },
