@@ -29,6 +29,7 @@ pub mod raytrace;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod stats;
 pub mod stream;
 pub mod suite;
 pub mod synthetic;

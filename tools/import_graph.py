@@ -38,8 +38,8 @@ upward. Within the sketch's fourth layer, compare (the metrics: it measures rend
 and writes its heatmaps through output) sits above render and output, which must not import
 it. Top-level modules that the sketch does not place are given a layer here (LAYERS):
 frames sits with output (it names files and parses JSON; tour, video and web read it);
-frame (the rendered image type), rng, value (option value parsing), font (the charts' font)
-and synthetic (generated test scenes) sit at the bottom with scene; memory (memory budgets,
+frame (the rendered image type), rng, value (option value parsing), stats (percentiles),
+font (the charts' font) and synthetic (generated test scenes) sit at the bottom with scene; memory (memory budgets,
 which size the stream's chunks) sits with stream; suite (the benchmark scene suite) sits
 with bench. Edges between files of one layer are not upward (circles catch their loops).
 Tests (`#[cfg(test)]` modules) count: a test that imports a higher layer is reported too;
@@ -65,7 +65,7 @@ LAYERS = {
     "compare": 2.5,
     "prepare": 2, "render": 2, "output": 2, "frames": 2,
     "projection": 1, "scene": 1, "io": 1,
-    "frame": 1, "rng": 1, "value": 1, "font": 1, "synthetic": 1,
+    "frame": 1, "rng": 1, "value": 1, "font": 1, "synthetic": 1, "stats": 1,
 }
 
 

@@ -43,4 +43,4 @@ pub use holes::{HoleStats, holes};
 pub use measure::{Regions, compare, compare_eyes};
 pub use report::{CompareReport, EyeReport};
 pub use samples::Samples;
-pub use stats::{DepthErrorStats, RegionStats, percentile};
+pub use stats::{DepthErrorStats, RegionStats};
