@@ -12,6 +12,7 @@ pub mod cubemap;
 pub mod cylindrical;
 pub mod depth_map;
 pub mod disparity;
+pub mod disparity_image;
 pub mod equirect;
 pub mod fisheye;
 pub mod hammer;
