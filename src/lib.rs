@@ -18,6 +18,7 @@ pub mod compare;
 #[cfg(feature = "charts")]
 pub mod font;
 pub mod frame;
+pub mod frames;
 pub mod io;
 pub mod memory;
 pub mod output;
