@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The module import graph of the library (src/): its circles and its imports that run up.
 
-Usage: python3 tools/import_graph.py [--src src] [--edges] [--all]
+Usage: python3 tools/import_graph.py [--src src] [--lib-only] [--edges] [--all]
 
 Exit status 1 when a circle or an upward import is found in the library, 0 otherwise.
 
@@ -48,7 +48,8 @@ edges that only tests make are marked (test).
 Folder circles: the same graph with each top-level module as one node; two folders that
 import each other (in any files) are a circle even when no file-level circle exists.
 
---edges prints every edge; --all also prints edges inside one top-level module.
+--lib-only leaves src/cli out; --edges prints every edge between top-level modules (--all:
+also those inside one).
 """
 
 import argparse
