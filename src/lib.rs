@@ -18,6 +18,7 @@ pub mod compare;
 #[cfg(feature = "charts")]
 pub mod font;
 pub mod frame;
+pub mod frames;
 pub mod io;
 pub mod memory;
 pub mod output;
@@ -29,6 +30,7 @@ pub mod raytrace;
 pub mod render;
 pub mod rng;
 pub mod scene;
+pub mod stats;
 pub mod stream;
 pub mod suite;
 pub mod synthetic;

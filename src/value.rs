@@ -57,17 +57,4 @@ mod tests {
         assert_eq!(positive_metres("0.3"), Ok(0.3));
         assert!(positive_metres("0").is_err() && positive_metres("-1").is_err());
     }
-
-    #[test]
-    fn plain_enums_parse_by_their_help_names() {
-        use crate::render::{ColorMode, Imposter, RendererKind, Shading};
-        assert_eq!("raytrace".parse(), Ok(RendererKind::Raytrace));
-        assert_eq!(" Sprite".parse(), Ok(Imposter::Sprite));
-        assert_eq!("classification".parse(), Ok(ColorMode::Classification));
-        let e = "toon".parse::<Shading>().unwrap_err();
-        assert!(
-            e.contains("unknown shading `toon`: use unlit, phong, normal"),
-            "{e}"
-        );
-    }
 }

@@ -7,8 +7,8 @@
 mod projection_strategies;
 
 use glam::DVec3;
+use omnicloud::projection::sphere;
 use omnicloud::projection::{Camera, Image, Margins, Projection, View, image_bounds};
-use omnicloud::raytrace::sphere;
 use projection_strategies::{
     CENTRE, anywhere, between_longitudes, eye, eye_view, near_a_pole, near_the_eye, profile,
 };

@@ -268,7 +268,7 @@ fn the_viewer_refuses_renders_of_other_projections() {
 #[cfg(feature = "video")]
 #[test]
 fn a_video_is_not_made_of_frames_of_other_projections() {
-    use omnicloud::video::{FrameFolder, StereoChoice, VideoError};
+    use omnicloud::frames::{FrameFolder, FramesError, StereoChoice};
     let dir = tempfile::tempdir().unwrap();
     for k in 0..2 {
         let path = dir.path().join(format!("frame_{k:06}.png"));
@@ -280,7 +280,7 @@ fn a_video_is_not_made_of_frames_of_other_projections() {
         );
     }
     let err = FrameFolder::open(dir.path(), StereoChoice::Auto).unwrap_err();
-    assert!(matches!(err, VideoError::Shape { .. }), "{err}");
+    assert!(matches!(err, FramesError::Shape { .. }), "{err}");
     assert!(err.to_string().contains("it is a hammer render"), "{err}");
 }
 

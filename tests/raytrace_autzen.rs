@@ -2,11 +2,11 @@
 //! near its centre: coverage and depth must be those of standing on a scanned field.
 
 use indicatif::ProgressBar;
-use omnicloud::compare::percentile;
 use omnicloud::prepare::radius::{auto_radius, median_spacing};
 use omnicloud::projection::Camera;
 use omnicloud::raytrace::render;
 use omnicloud::render::{ColorMode, RenderSettings};
+use omnicloud::stats::percentile;
 use omnicloud::{Rendered, Scene};
 
 const AUTZEN: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");

@@ -8,10 +8,10 @@ mod projection_strategies;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DVec2, DVec3};
+use omnicloud::projection::sphere;
 use omnicloud::projection::{
     Camera, Equirect, Eye, OdsOffset, PoleMerging, Rect, Stereo, View, sphere_bounds,
 };
-use omnicloud::raytrace::sphere;
 use projection_strategies::{
     CENTRE, anywhere, between_longitudes, eye, eye_view, near_a_pole, near_the_eye, profile,
 };

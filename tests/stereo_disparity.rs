@@ -4,9 +4,10 @@
 
 use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
-use omnicloud::compare::disparity_image::{DisparityImage, left_eye_disparity};
+use omnicloud::compare::rendered_disparity::left_eye_disparity;
 use omnicloud::output::disparity_exr::{read_disparity_exr, write_disparity_exr};
 use omnicloud::projection::disparity::ARCMIN_PER_RADIAN;
+use omnicloud::projection::disparity_image::DisparityImage;
 use omnicloud::projection::{Camera, Eye, OdsOffset, PoleMerging, Stereo, View};
 use omnicloud::raytrace;
 use omnicloud::render::RenderSettings;

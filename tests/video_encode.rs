@@ -8,11 +8,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use indicatif::ProgressBar;
+use omnicloud::frames::StereoChoice;
+use omnicloud::output::StereoLayout;
 use omnicloud::output::{Layout, write_image};
 use omnicloud::video::decode::decode_frames;
 use omnicloud::video::{
-    Projection, StereoChoice, StereoLayout, VideoOptions, check_frame_size, encode_folder,
-    read_video_info,
+    Projection, VideoOptions, check_frame_size, encode_folder, read_video_info,
 };
 use omnicloud::{Frame, Rendered};
 
@@ -405,7 +406,7 @@ fn a_real_ods_render_survives_encoding() {
     .unwrap();
     let mut worst = f64::INFINITY;
     decode_frames(&out, |k, decoded| {
-        let source = omnicloud::video::frames::read_rgb(&frames[k]).unwrap();
+        let source = omnicloud::frames::read_rgb(&frames[k]).unwrap();
         worst = worst.min(psnr(&source, &decoded));
     })
     .unwrap();

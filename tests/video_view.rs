@@ -8,7 +8,8 @@ use std::path::Path;
 use std::time::Duration;
 
 use indicatif::ProgressBar;
-use omnicloud::video::{StereoChoice, VideoOptions, encode_folder};
+use omnicloud::frames::StereoChoice;
+use omnicloud::video::{VideoOptions, encode_folder};
 use omnicloud::web::{Panorama, PanoramaKind, ViewServer};
 
 /// Encodes four `width` x `height` frames into `dir/v.mp4` with `stereo`.

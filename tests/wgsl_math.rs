@@ -20,11 +20,11 @@
 mod raster_common;
 
 use glam::{DVec2, DVec3, Vec3};
+use omnicloud::projection::sphere;
 use omnicloud::projection::{
     Camera, Eye, EyeModel, OdsOffset, PoleMerge, PoleMerging, Stereo, View, equirect, sphere_bounds,
 };
 use omnicloud::raster::probe::ProbeItem;
-use omnicloud::raytrace::sphere;
 use omnicloud::render::RenderSettings;
 use omnicloud::render::shading::{self, Shading};
 use omnicloud::rng::SplitMix64 as Rng;
@@ -184,7 +184,7 @@ fn f64x3(v: [f32; 3]) -> DVec3 {
     DVec3::from_array(v.map(f64::from))
 }
 
-/// `intersect_sphere` (sphere.wgsl) against `raytrace::sphere::intersect` on the same f32
+/// `intersect_sphere` (sphere.wgsl) against `projection::sphere::intersect` on the same f32
 /// rays and spheres: rays from within the viewing circle aimed at or beside spheres 5 cm to
 /// 300 m away, some enclosing the origin. Distance tolerance relative to `|origin - centre| +
 /// radius`; rays within 1e-3 radius of grazing, or starting within 1e-4 radius of the

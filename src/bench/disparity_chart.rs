@@ -13,8 +13,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::chart::{ChartError, palette, write_both};
-use crate::compare::disparity_image::DisparityImage;
 use crate::font::FONT;
+use crate::projection::disparity_image::DisparityImage;
 
 /// Errors below this many arcminutes are drawn at it on the log axis, so exact methods stay
 /// visible.

@@ -10,7 +10,8 @@ use indicatif::ProgressBar;
 use super::disparity_chart::{
     DisparityErrorSeries, disparity_error_series, disparity_error_table, write_disparity_charts,
 };
-use crate::compare::disparity_image::{DisparityImage, left_eye_disparity};
+use crate::compare::rendered_disparity::left_eye_disparity;
+use crate::projection::disparity_image::DisparityImage;
 use crate::projection::{OdsOffset, PoleMerging, Stereo};
 use crate::raytrace::{self, RaytraceError, Tracer};
 use crate::render::RenderSettings;

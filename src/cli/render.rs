@@ -7,10 +7,11 @@ use anyhow::{Result, anyhow, bail};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
-use crate::compare::disparity_image::{comfort, left_eye_disparity};
+use crate::compare::rendered_disparity::left_eye_disparity;
 use crate::output::{AnaglyphMethod, ImageFormat, Layout, OutputOptions};
 use crate::prepare::{CameraChoice, PrepareOptions, Prepared, prepare_files, subsample};
 use crate::projection::Image;
+use crate::projection::disparity_image::comfort;
 use crate::render::{RenderSettings, RendererKind};
 use crate::tour::Resident;
 use crate::{Rendered, output, raytrace};

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 
-use crate::video::{self, StereoChoice, StereoSource, VideoOptions};
+use crate::frames::{StereoChoice, StereoSource};
+use crate::video::{self, VideoOptions};
 
 use super::progress;
 

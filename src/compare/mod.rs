@@ -22,7 +22,6 @@
 //! renders as [`crate::Frame`]s; [`compare_eyes`] sums the eyes of a render into one set of
 //! statistics (what `bench` reports).
 
-pub mod disparity_image;
 mod error;
 pub mod eyes;
 mod files;
@@ -30,6 +29,7 @@ mod files;
 pub mod heatmap;
 pub mod holes;
 mod measure;
+pub mod rendered_disparity;
 mod report;
 mod samples;
 pub mod silhouette;
@@ -43,4 +43,4 @@ pub use holes::{HoleStats, holes};
 pub use measure::{Regions, compare, compare_eyes};
 pub use report::{CompareReport, EyeReport};
 pub use samples::Samples;
-pub use stats::{DepthErrorStats, RegionStats, percentile};
+pub use stats::{DepthErrorStats, RegionStats};

@@ -2,6 +2,8 @@
 
 use serde::Serialize;
 
+use crate::stats::percentile;
+
 /// Relative depth error `|z_t - z_r| / z_r`, where both depths are finite and `z_r > 0`.
 pub fn depth_relative_error(z_ref: f32, z_test: f32) -> Option<f64> {
     let (r, t) = (z_ref as f64, z_test as f64);
@@ -102,15 +104,6 @@ pub struct RegionAccumulator {
     color_pixels: u64,
 }
 
-/// The `p`-th percentile (`p` in [0, 1]) of ascending `sorted` by nearest rank: the smallest
-/// value that at least a fraction `p` of the values do not exceed (`p = 0` gives the
-/// smallest, `p = 1` the largest); `None` when `sorted` is empty. The one percentile of the
-/// crate: error statistics, colour ranges and the tests use it.
-pub fn percentile<T: Copy>(sorted: &[T], p: f64) -> Option<T> {
-    let rank = (p * sorted.len() as f64).ceil() as usize;
-    sorted.get(rank.clamp(1, sorted.len().max(1)) - 1).copied()
-}
-
 impl RegionAccumulator {
     /// Adds one pixel.
     pub fn add(&mut self, e: &PixelErrors) {
@@ -182,17 +175,6 @@ impl RegionAccumulator {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn nearest_rank_percentiles() {
-        let v: Vec<f64> = (1..=100).map(f64::from).collect();
-        assert_eq!(percentile(&v, 0.5), Some(50.0));
-        assert_eq!(percentile(&v, 0.99), Some(99.0));
-        assert_eq!(percentile(&v, 0.0), Some(1.0));
-        assert_eq!(percentile(&v, 1.0), Some(100.0));
-        assert_eq!(percentile(&[7.0], 0.99), Some(7.0));
-        assert_eq!(percentile::<f64>(&[], 0.5), None);
-    }
 
     #[test]
     fn psnr_of_known_error() {

@@ -8,6 +8,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use super::units::{Across, CrsUnits};
+use super::wkt::{self, COMPOUND, VERTICAL, WktNode};
 
 /// File format and its variant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -170,134 +171,6 @@ pub enum GeoKey {
     Other,
 }
 
-/// A parsed WKT node: `KEYWORD[arg, arg, ...]`.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) struct WktNode {
-    pub(super) keyword: String,
-    pub(super) args: Vec<WktArg>,
-}
-
-/// One argument of a WKT node: a quoted text, a bare word (a number, an enum) or a node.
-#[derive(Debug, Clone, PartialEq)]
-pub(super) enum WktArg {
-    Text(String),
-    Word(String),
-    Node(WktNode),
-}
-
-/// Parses WKT (WKT1 or WKT2): `None` when the text is not one well-formed node.
-fn parse_wkt(text: &str) -> Option<WktNode> {
-    fn skip_ws(b: &[u8], i: &mut usize) {
-        while *i < b.len() && b[*i].is_ascii_whitespace() {
-            *i += 1;
-        }
-    }
-    fn node(b: &[u8], i: &mut usize, depth: usize) -> Option<WktNode> {
-        // Nesting is a handful of levels in any real CRS: refuse absurd depth, not overflow.
-        if depth > 64 {
-            return None;
-        }
-        skip_ws(b, i);
-        let start = *i;
-        while *i < b.len() && (b[*i].is_ascii_alphanumeric() || b[*i] == b'_') {
-            *i += 1;
-        }
-        let keyword = std::str::from_utf8(&b[start..*i])
-            .ok()?
-            .to_ascii_uppercase();
-        skip_ws(b, i);
-        let close = match b.get(*i)? {
-            b'[' => b']',
-            b'(' => b')',
-            _ => return None,
-        };
-        *i += 1;
-        let mut args = Vec::new();
-        loop {
-            skip_ws(b, i);
-            match *b.get(*i)? {
-                c if c == close => {
-                    *i += 1;
-                    break;
-                }
-                b',' => *i += 1,
-                b'"' => {
-                    // A quote inside a string is written twice.
-                    let mut text = Vec::new();
-                    *i += 1;
-                    loop {
-                        match *b.get(*i)? {
-                            b'"' if b.get(*i + 1) == Some(&b'"') => {
-                                text.push(b'"');
-                                *i += 2;
-                            }
-                            b'"' => {
-                                *i += 1;
-                                break;
-                            }
-                            c => {
-                                text.push(c);
-                                *i += 1;
-                            }
-                        }
-                    }
-                    args.push(WktArg::Text(String::from_utf8_lossy(&text).into_owned()));
-                }
-                _ => {
-                    let start = *i;
-                    while *i < b.len() && !matches!(b[*i], b',' | b']' | b')' | b'[' | b'(') {
-                        *i += 1;
-                    }
-                    if matches!(b.get(*i), Some(b'[' | b'(')) {
-                        *i = start;
-                        args.push(WktArg::Node(node(b, i, depth + 1)?));
-                    } else {
-                        let word = std::str::from_utf8(&b[start..*i]).ok()?.trim();
-                        args.push(WktArg::Word(word.to_string()));
-                    }
-                }
-            }
-        }
-        Some(WktNode { keyword, args })
-    }
-    let b = text.as_bytes();
-    let mut i = 0;
-    node(b, &mut i, 0)
-}
-
-impl WktNode {
-    pub(super) fn name(&self) -> Option<&str> {
-        self.args.iter().find_map(|a| match a {
-            WktArg::Text(t) => Some(t.as_str()),
-            _ => None,
-        })
-    }
-
-    pub(super) fn children(&self) -> impl Iterator<Item = &WktNode> {
-        self.args.iter().filter_map(|a| match a {
-            WktArg::Node(n) => Some(n),
-            _ => None,
-        })
-    }
-
-    /// The node's own `AUTHORITY["EPSG","2992"]` (WKT1) or `ID["EPSG",2992]` (WKT2).
-    pub(super) fn epsg(&self) -> Option<u32> {
-        self.children()
-            .filter(|c| c.keyword == "AUTHORITY" || c.keyword == "ID")
-            .find_map(|c| match c.args.as_slice() {
-                [WktArg::Text(auth), code, ..] if auth.eq_ignore_ascii_case("EPSG") => match code {
-                    WktArg::Text(s) | WktArg::Word(s) => s.trim().parse().ok(),
-                    WktArg::Node(_) => None,
-                },
-                _ => None,
-            })
-    }
-}
-
-/// WKT keywords of compound systems, and of the vertical part inside one.
-pub(super) const COMPOUND: [&str; 2] = ["COMPD_CS", "COMPOUNDCRS"];
-const VERTICAL: [&str; 3] = ["VERT_CS", "VERTCRS", "VERTICALCRS"];
-
 impl Crs {
     /// The system a WKT text declares: its root name and EPSG authority; for a compound
     /// system, the horizontal part's EPSG code when the root has none, and the vertical
@@ -311,7 +184,7 @@ impl Crs {
             wkt: Some(text.to_string()),
             units: CrsUnits::default(),
         };
-        let Some(root) = parse_wkt(text) else {
+        let Some(root) = wkt::parse(text) else {
             return crs;
         };
         crs.units = CrsUnits::from_wkt(&root);

@@ -18,6 +18,7 @@ mod load;
 mod ply;
 mod stats;
 mod units;
+mod wkt;
 
 pub use chunk::{ColorScale, PointChunk};
 pub use copc::{NodeKey, Octree, is_copc, open_nodes, read_octree};

@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use super::info::{COMPOUND, WktArg, WktNode};
+use super::wkt::{COMPOUND, GEOGRAPHIC, LENGTH_UNIT, PROJECTED, VERTICAL, WktArg, WktNode};
 
 /// A unit of length.
 #[derive(Debug, Clone, PartialEq)]
@@ -102,19 +102,6 @@ impl Default for CrsUnits {
         }
     }
 }
-
-/// WKT keywords of a length unit (`UNIT` in WKT1; `LENGTHUNIT` or `UNIT` in WKT2).
-const LENGTH_UNIT: [&str; 2] = ["UNIT", "LENGTHUNIT"];
-/// WKT keywords of projected, geographic and vertical systems.
-const PROJECTED: [&str; 3] = ["PROJCS", "PROJCRS", "PROJECTEDCRS"];
-const GEOGRAPHIC: [&str; 5] = [
-    "GEOGCS",
-    "GEOGCRS",
-    "GEODCRS",
-    "GEOGRAPHICCRS",
-    "GEODETICCRS",
-];
-const VERTICAL: [&str; 3] = ["VERT_CS", "VERTCRS", "VERTICALCRS"];
 
 impl CrsUnits {
     /// The units a parsed WKT system declares: a projected system's own unit (or its first

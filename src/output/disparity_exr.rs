@@ -11,7 +11,7 @@ use exr::prelude::{
 };
 
 use super::{OutputError, write_atomically};
-use crate::compare::disparity_image::DisparityImage;
+use crate::projection::disparity_image::DisparityImage;
 
 /// Horizontal disparity channel.
 pub const CHANNEL_H: &str = "disparity.h";

@@ -349,8 +349,8 @@ fn map_rect(out: &mut Rects, f: &MapFrame, centre: DVec3, radius: f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::projection::sphere;
     use crate::projection::{Camera, Eye, OdsOffset, PoleMerging, Stereo};
-    use crate::raytrace::sphere;
 
     /// Hit pixels outside every rectangle, and hit pixels in all.
     fn misses(image: &Image, v: &View, s: DVec3, r: f64) -> (usize, usize) {

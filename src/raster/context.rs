@@ -40,7 +40,7 @@ impl GpuContext {
             let instance = wgpu::Instance::new(desc);
             let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
             adapters.retain(|a| {
-                a.get_texture_format_features(super::targets::DISTANCE_FORMAT)
+                a.get_texture_format_features(super::formats::DISTANCE_FORMAT)
                     .allowed_usages
                     .contains(wgpu::TextureUsages::RENDER_ATTACHMENT)
             });

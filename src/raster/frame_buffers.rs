@@ -11,8 +11,9 @@ use super::context::GpuContext;
 use super::error::RasterError;
 use super::expand::ExpandedVertex;
 use super::key_targets::{KeyedAttachment, KeyedTargets};
+use super::lock::lock;
 use super::params::Params;
-use super::rasterizer::lock;
+use super::read_back::ReadBack;
 use super::sizing::FrameSizing;
 use super::splat;
 use super::stats::EyeStats;
@@ -227,20 +228,6 @@ fn read_each<E: ReadBack>(
     eyes.iter_mut()
         .map(|t| t.read(ctx, true, reuse(t.size())))
         .collect()
-}
-
-/// An eye's image that reads back into a [`Frame`]: the drawn targets or the keys.
-pub trait ReadBack {
-    /// Width and height of the eye.
-    fn size(&self) -> (u32, u32);
-    /// Reads the image back into a frame (into `reuse`'s memory when it has the eye's size:
-    /// every pixel is written); `keep` keeps the read-back buffers for the next read.
-    fn read(
-        &mut self,
-        ctx: &GpuContext,
-        keep: bool,
-        reuse: Option<Frame>,
-    ) -> Result<Frame, RasterError>;
 }
 
 /// The buffers of the last finished frames, kept for the next frame of the same shape once a

@@ -8,7 +8,7 @@ use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
-use super::frame_buffers::ReadBack;
+use super::read_back::ReadBack;
 use super::sizing::key_bytes;
 use super::splat::{key_buffer, tile_bytes};
 use super::targets::{KEYED_TARGETS, check_size, eye_texture, map_read_with};

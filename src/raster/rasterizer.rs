@@ -2,7 +2,7 @@
 //! reused across frames. Frames ([`super::RasterFrame`]) borrow it.
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 
 use super::constants::SHADING_UNLIT;
 use super::context::GpuContext;
@@ -10,6 +10,7 @@ use super::error::RasterError;
 use super::expand::ExpandPipeline;
 use super::frame_buffers::Spare;
 use super::imposter::ImposterPipeline;
+use super::lock::lock;
 use super::pipeline_cache::{CacheStatus, PipelineCache};
 use super::pixel_trig;
 use super::shaders;
@@ -54,12 +55,6 @@ pub struct Rasterizer {
     pub(crate) spare: Mutex<Spare>,
     knobs: Knobs,
     pipeline_cache: CacheStatus,
-}
-
-/// `m` locked; a panic elsewhere while it was held leaves nothing half-written in the
-/// rasterizer's maps or its kept buffers.
-pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl Rasterizer {

@@ -212,28 +212,3 @@ macro_rules! field_offsets {
 }
 #[cfg(test)]
 pub(crate) use field_offsets;
-
-#[cfg(test)]
-mod tests {
-    /// Parses and validates `source` as the device would (every capability allowed, so the
-    /// 64-bit splat validates too).
-    fn validate(name: &str, source: &str) {
-        use wgpu::naga::valid::{Capabilities, ValidationFlags, Validator};
-        let module = wgpu::naga::front::wgsl::parse_str(source)
-            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-        Validator::new(ValidationFlags::all(), Capabilities::all())
-            .validate(&module)
-            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(source)));
-    }
-
-    #[test]
-    fn every_composed_shader_parses_and_validates() {
-        validate("expand + splat", &super::super::expand::source(true));
-        validate("expand", &super::super::expand::source(false));
-        validate("imposter", &super::super::imposter::source(false));
-        validate("imposter + keyed", &super::super::imposter::source(true));
-        validate("deferred shading", &super::super::splat_shade::source());
-        validate("tile resolve", &super::super::tile_resolve::source());
-        validate("probe", &super::super::probe::source());
-    }
-}

@@ -6,14 +6,8 @@ use crate::frame::Frame;
 
 use super::context::GpuContext;
 use super::error::RasterError;
-use super::frame_buffers::ReadBack;
-
-/// Colour target: sRGB bytes stored as they are.
-pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-/// Distance target: metres along the ray.
-pub const DISTANCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
-/// Depth-test buffer (logarithmic depth written by the fragment stage).
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+use super::formats::{COLOR_FORMAT, DEPTH_FORMAT, DISTANCE_FORMAT};
+use super::read_back::ReadBack;
 
 /// The colour attachments every pipeline drawing into [`EyeTargets`] writes: colour, then
 /// distance.

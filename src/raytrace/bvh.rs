@@ -21,7 +21,7 @@ use obvhs::ray::{Ray, RayHit};
 pub use obvhs::BvhBuildParams;
 
 use super::RaytraceError;
-use super::sphere;
+use crate::projection::sphere;
 use crate::scene::Scene;
 
 /// Box inflation relative to the scene's reach (largest |coordinate| + radius): some

@@ -2,13 +2,12 @@
 //!
 //! One ray per pixel centre (DESIGN §2, §3), computed in f64 by [`View::pixel_ray`]; the
 //! BVH is traversed in f32 but each candidate sphere is intersected in f64
-//! ([`sphere::intersect`]), so depths carry f64 precision from the f32 sphere centres.
+//! ([`crate::projection::sphere::intersect`]), so depths carry f64 precision from the f32 sphere centres.
 //!
 //! [`View::pixel_ray`]: crate::projection::View::pixel_ray
 
 pub mod bvh;
 pub mod render;
-pub mod sphere;
 
 pub use bvh::{BvhBuildParams, Hit, Tracer, TracerMemory, trace_brute_force};
 pub use render::{padding_for, render, render_with_tracer};

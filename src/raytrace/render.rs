@@ -6,8 +6,8 @@ use rayon::prelude::*;
 
 use super::RaytraceError;
 use super::bvh::{Hit, Tracer};
-use super::sphere;
 use crate::frame::{Frame, Rendered};
+use crate::projection::sphere;
 use crate::projection::{Image, View};
 use crate::render::RenderSettings;
 use crate::render::color::base_colors;

@@ -153,7 +153,7 @@ fn percentile_range(values: impl ExactSizeIterator<Item = f32>) -> (f32, f32) {
     let stride = n.div_ceil(100_000).max(1);
     let mut sample: Vec<f32> = values.step_by(stride).filter(|v| v.is_finite()).collect();
     sample.sort_by(f32::total_cmp);
-    let at = |q: f64| crate::compare::percentile(&sample, q).unwrap_or(0.0);
+    let at = |q: f64| crate::stats::percentile(&sample, q).unwrap_or(0.0);
     (at(0.01), at(0.99))
 }
 

@@ -141,6 +141,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn plain_enums_parse_by_their_help_names() {
+        assert_eq!("raytrace".parse(), Ok(RendererKind::Raytrace));
+        assert_eq!(" Sprite".parse(), Ok(Imposter::Sprite));
+        assert_eq!("classification".parse(), Ok(ColorMode::Classification));
+        let e = "toon".parse::<Shading>().unwrap_err();
+        assert!(
+            e.contains("unknown shading `toon`: use unlit, phong, normal"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn proxies_parse_with_their_bounds_checked() {
         assert_eq!("static:16".parse(), Ok(Proxy::Static(16)));
         assert_eq!(" Bounds".parse(), Ok(Proxy::Bounds));

@@ -1,4 +1,5 @@
-//! `tour.json`: every frame's pose and file, the render settings, the `omnicloud render`
+//! What a tour records in its `tour.json` ([`crate::frames::manifest`] names, writes and
+//! reads the file): every frame's pose and file, the render settings, the `omnicloud render`
 //! command line that reproduces each frame, and what an encoder needs (frame rate, size,
 //! stereo layout, frame files in order).
 
@@ -7,11 +8,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::poses::Pose;
+use crate::frames::{FramesError, write_manifest};
 pub use crate::output::StereoLayout;
-use crate::output::{OutputError, write_atomically};
-
-/// The manifest's file name inside a tour's folder.
-pub const MANIFEST_NAME: &str = "tour.json";
 
 /// Version of the manifest's layout.
 pub const MANIFEST_VERSION: u32 = 1;
@@ -69,58 +67,10 @@ pub struct TourManifest {
 }
 
 impl TourManifest {
-    /// The frame files, in order, inside `dir`.
-    pub fn frame_files(&self, dir: &Path) -> Vec<PathBuf> {
-        self.frames.iter().map(|f| dir.join(&f.file)).collect()
-    }
-
     /// Writes the manifest to `dir/tour.json`, atomically.
-    pub fn write(&self, dir: &Path) -> Result<PathBuf, OutputError> {
-        let path = dir.join(MANIFEST_NAME);
-        let json = serde_json::to_vec_pretty(self).expect("a manifest serialises");
-        write_atomically(&path, |w| {
-            use std::io::Write;
-            w.write_all(&json)
-                .and_then(|_| w.write_all(b"\n"))
-                .map_err(|source| OutputError::Io {
-                    path: path.clone(),
-                    action: "writing",
-                    source,
-                })
-        })?;
-        Ok(path)
+    pub fn write(&self, dir: &Path) -> Result<PathBuf, FramesError> {
+        write_manifest(dir, self)
     }
-}
-
-/// Reads `dir/tour.json` (for an encoder run after the frames are rendered).
-pub fn read_manifest(dir: &Path) -> Result<TourManifest, ManifestError> {
-    let path = dir.join(MANIFEST_NAME);
-    let text = std::fs::read_to_string(&path).map_err(|source| ManifestError::Read {
-        path: path.clone(),
-        source,
-    })?;
-    serde_json::from_str(&text).map_err(|source| ManifestError::Parse { path, source })
-}
-
-/// Why a manifest could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum ManifestError {
-    /// Opening or reading failed.
-    #[error("{}: {source}", path.display())]
-    Read {
-        /// The manifest.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
-    /// Not a tour manifest.
-    #[error("{}: not a tour manifest: {source}", path.display())]
-    Parse {
-        /// The manifest.
-        path: PathBuf,
-        /// The cause.
-        source: serde_json::Error,
-    },
 }
 
 /// `args` as one POSIX shell command line: arguments made only of safe characters stay as
@@ -190,9 +140,5 @@ mod tests {
         assert!(json.contains("\"stereo_layout\":\"top-bottom\""), "{json}");
         assert!(json.contains("\"yaw\":90.0"), "{json}");
         assert_eq!(serde_json::from_str::<TourManifest>(&json).unwrap(), m);
-        assert_eq!(
-            m.frame_files(Path::new("d")),
-            vec![PathBuf::from("d/frame_000000.png")]
-        );
     }
 }

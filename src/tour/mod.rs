@@ -23,7 +23,7 @@ use indicatif::ProgressBar;
 use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare};
 use crate::scene::Scene;
 
-pub use manifest::{FrameRecord, StereoLayout, TourManifest, read_manifest};
+pub use manifest::{FrameRecord, StereoLayout, TourManifest};
 pub use path::{Keyframe, PathError};
 pub use poses::{Heading, Pose, Sampling};
 pub use resident::{Resident, ResidentError};

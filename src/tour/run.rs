@@ -40,7 +40,7 @@ impl FrameFormat {
 
     /// `frame_000042.png` and so on.
     pub fn file_name(self, index: usize) -> String {
-        format!("frame_{index:06}.{}", self.extension())
+        crate::frames::frame_file_name(index, self.extension())
     }
 }
 

@@ -15,70 +15,6 @@ pub enum VideoError {
         /// The underlying error.
         source: std::io::Error,
     },
-    /// A folder holds no frames.
-    #[error("{path} holds no frames (frame_000000.png, frame_000001.png, ... or .jpg)")]
-    NoFrames {
-        /// The folder.
-        path: PathBuf,
-    },
-    /// The numbered frames have a gap.
-    #[error("{dir}: frame {missing} is missing ({expected} not found); frames run 0 to {last}")]
-    MissingFrame {
-        /// The folder.
-        dir: PathBuf,
-        /// The missing frame's number.
-        missing: usize,
-        /// The file name that was expected.
-        expected: String,
-        /// The highest frame number present.
-        last: usize,
-    },
-    /// `tour.json` lists more frames than the folder holds.
-    #[error(
-        "{path} lists {listed} frames but the folder holds {found}: the tour is not fully rendered yet"
-    )]
-    IncompleteTour {
-        /// The `tour.json`.
-        path: PathBuf,
-        /// Frames it lists.
-        listed: usize,
-        /// Frames found.
-        found: usize,
-    },
-    /// A frame differs in size from the first.
-    #[error(
-        "{path} is {width}x{height}, but the first frame {first} is {first_width}x{first_height}"
-    )]
-    FrameSize {
-        /// The odd frame.
-        path: PathBuf,
-        /// Its width.
-        width: u32,
-        /// Its height.
-        height: u32,
-        /// The first frame.
-        first: PathBuf,
-        /// The first frame's width.
-        first_width: u32,
-        /// The first frame's height.
-        first_height: u32,
-    },
-    /// A frame could not be decoded.
-    #[error("{path} is not a readable PNG or JPEG image: {reason}")]
-    BadImage {
-        /// The file.
-        path: PathBuf,
-        /// What the decoder said.
-        reason: String,
-    },
-    /// `tour.json` is not what a tour writes.
-    #[error("{path}: {reason}")]
-    BadTour {
-        /// The `tour.json`.
-        path: PathBuf,
-        /// What is wrong.
-        reason: String,
-    },
     /// The frame size cannot be encoded or would not play on common players.
     #[error("{width}x{height} frames cannot be encoded: {reason}")]
     FrameTooLarge {
@@ -112,18 +48,6 @@ pub enum VideoError {
     /// A bad option value.
     #[error("{0}")]
     Option(String),
-    /// The stereo layout asked for does not fit the frame shape.
-    #[error("{path} is {width}x{height}: {reason}")]
-    Shape {
-        /// The first frame.
-        path: PathBuf,
-        /// Its width.
-        width: u32,
-        /// Its height.
-        height: u32,
-        /// Why the layout does not fit.
-        reason: String,
-    },
     /// The H.264 encoder or decoder failed.
     #[error("H.264 {action} failed at frame {frame}: {reason}")]
     Codec {
@@ -142,6 +66,9 @@ pub enum VideoError {
         /// What is wrong.
         reason: String,
     },
+    /// The frame folder or its `tour.json` is not what a video is made of.
+    #[error(transparent)]
+    Frames(#[from] crate::frames::FramesError),
     /// Writing the output file failed.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),

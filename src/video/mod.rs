@@ -2,14 +2,13 @@
 //! on top) encoded to an H.264 MP4 with the Spherical Video V2 metadata (`st3d`, `sv3d`) that
 //! YouTube, headset players and other 360 players read to show it as a sphere, in stereo.
 //!
-//! [`frames`] lists and checks the frames, [`level`] keeps the stream within what players
+//! [`crate::frames`] lists and checks the frames, [`level`] keeps the stream within what players
 //! decode, [`encode`] runs OpenH264, [`mux`] writes and reads the MP4, [`decode`] decodes it
 //! back. No external program is involved.
 
 pub mod decode;
 pub mod encode;
 mod error;
-pub mod frames;
 pub mod level;
 pub mod mux;
 
@@ -19,8 +18,10 @@ use std::time::Instant;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 
+use crate::frames::{FrameFolder, FramesError, StereoChoice, StereoSource, read_rgb};
+use crate::output::StereoLayout;
+
 pub use error::VideoError;
-pub use frames::{FrameFolder, StereoChoice, StereoLayout, StereoSource};
 pub use level::{H264Level, check_frame_size};
 pub use mux::{Projection, VideoInfo, read_video_info};
 
@@ -147,18 +148,19 @@ pub fn encode_plan(
     for chunk in folder.frames.chunks(batch) {
         let images: Vec<image::RgbImage> = chunk
             .par_iter()
-            .map(|path| frames::read_rgb(path))
+            .map(|path| read_rgb(path))
             .collect::<Result<_, _>>()?;
         for (path, image) in chunk.iter().zip(&images) {
             if image.dimensions() != (folder.width, folder.height) {
-                return Err(VideoError::FrameSize {
+                return Err(FramesError::FrameSize {
                     path: path.clone(),
                     width: image.width(),
                     height: image.height(),
                     first: folder.frames[0].clone(),
                     first_width: folder.width,
                     first_height: folder.height,
-                });
+                }
+                .into());
             }
             writer.write_frame(&encoder.encode(image)?)?;
             progress.inc(1);
@@ -190,7 +192,7 @@ pub fn encode_plan(
     })
 }
 
-/// Encodes the frames of `dir` (see [`frames`]) into the MP4 `output`.
+/// Encodes the frames of `dir` (see [`crate::frames`]) into the MP4 `output`.
 pub fn encode_folder(
     dir: &Path,
     output: &Path,

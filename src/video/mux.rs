@@ -21,8 +21,8 @@ use mp4_atom::{
 
 use super::VideoError;
 use super::encode::EncodedFrame;
-use super::frames::StereoLayout;
 use super::level::H264Level;
+use crate::output::StereoLayout;
 
 /// The `svhd` metadata source: the program that wrote the spherical metadata.
 pub const METADATA_SOURCE: &str = "omnicloud";

@@ -55,30 +55,9 @@ pub enum WebError {
         /// Its projection, as its description names it.
         projection: String,
     },
-    /// A folder holds no PNG or JPEG frames.
-    #[error("{path} holds no PNG or JPEG frames (frame_000000.png, ...)")]
-    NoFrames {
-        /// The folder.
-        path: PathBuf,
-    },
-    /// A frame of a folder differs in size from the first.
-    #[error(
-        "{path} is {width}x{height}, but the first frame {first} is {first_width}x{first_height}"
-    )]
-    FrameSize {
-        /// The odd frame.
-        path: PathBuf,
-        /// Its width.
-        width: u32,
-        /// Its height.
-        height: u32,
-        /// The first frame.
-        first: PathBuf,
-        /// The first frame's width.
-        first_width: u32,
-        /// The first frame's height.
-        first_height: u32,
-    },
+    /// A folder's frames cannot be shown together (none, or of different sizes).
+    #[error(transparent)]
+    Frames(#[from] crate::frames::FramesError),
     /// The server could not listen on the address.
     #[error("cannot listen on {addr}: {reason}")]
     Bind {

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::WebError;
+use crate::frames::{FramesError, numbered_frames, one_size};
 use crate::output::{StoredEyes, read_description};
 
 /// Mono equirect (2:1) or an ODS pair, left eye on top (1:1).
@@ -142,25 +143,15 @@ impl Panorama {
 
     fn from_frames(origin: &Path, frames: Vec<FrameFile>) -> Result<Self, WebError> {
         let Some(first) = frames.first() else {
-            return Err(WebError::NoFrames {
+            return Err(FramesError::NoFrames {
                 path: origin.to_path_buf(),
-            });
-        };
-        let (width, height) = dimensions(&first.path)?;
-        let kind = frame_kind(&first.path, width, height)?;
-        for frame in &frames[1..] {
-            let (w, h) = dimensions(&frame.path)?;
-            if (w, h) != (width, height) {
-                return Err(WebError::FrameSize {
-                    path: frame.path.clone(),
-                    width: w,
-                    height: h,
-                    first: first.path.clone(),
-                    first_width: width,
-                    first_height: height,
-                });
+                kinds: "PNG or JPEG",
             }
-        }
+            .into());
+        };
+        let paths: Vec<PathBuf> = frames.iter().map(|f| f.path.clone()).collect();
+        let (width, height) = one_size(&paths)?;
+        let kind = frame_kind(&first.path, width, height)?;
         Ok(Self {
             kind,
             width,
@@ -239,8 +230,18 @@ impl Panorama {
     }
 }
 
-/// The image files of a folder in name order: `frame_*` ones if there are any, else all.
+/// The image files of a folder: its numbered frames (`frame_000000.png`, ...) in number
+/// order if it has any, else all its PNG and JPEG files in name order.
 fn folder_frames(dir: &Path) -> Result<Vec<FrameFile>, WebError> {
+    let numbered = numbered_frames(dir, &["png", "jpg", "jpeg"])?;
+    let framed =
+        |path: PathBuf| ImageType::of(&path).map(|image_type| FrameFile { path, image_type });
+    if !numbered.is_empty() {
+        return Ok(numbered
+            .into_iter()
+            .filter_map(|(_, p)| framed(p))
+            .collect());
+    }
     let read = |source| WebError::Read {
         path: dir.to_path_buf(),
         source,
@@ -255,15 +256,6 @@ fn folder_frames(dir: &Path) -> Result<Vec<FrameFile>, WebError> {
         {
             images.push(FrameFile { path, image_type });
         }
-    }
-    let is_frame = |f: &FrameFile| {
-        f.path
-            .file_name()
-            .and_then(|n| n.to_str())
-            .is_some_and(|n| n.starts_with("frame_"))
-    };
-    if images.iter().any(is_frame) {
-        images.retain(is_frame);
     }
     images.sort_by(|a, b| a.path.file_name().cmp(&b.path.file_name()));
     Ok(images)
@@ -292,25 +284,6 @@ fn frame_kind(path: &Path, width: u32, height: u32) -> Result<PanoramaKind, WebE
         StoredEyes::Mono | StoredEyes::Left | StoredEyes::Right => PanoramaKind::Mono,
     };
     (by_shape == Some(kind)).then_some(kind).ok_or_else(shape)
-}
-
-fn dimensions(path: &Path) -> Result<(u32, u32), WebError> {
-    let not_image = |e: image::ImageError| WebError::NotAnImage {
-        path: path.to_path_buf(),
-        reason: e.to_string(),
-    };
-    image::ImageReader::open(path)
-        .map_err(|source| WebError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .with_guessed_format()
-        .map_err(|source| WebError::Read {
-            path: path.to_path_buf(),
-            source,
-        })?
-        .into_dimensions()
-        .map_err(not_image)
 }
 
 #[cfg(test)]
@@ -388,7 +361,7 @@ mod tests {
         let fake = dir.path().join("fake.png");
         std::fs::write(&fake, "not a png").unwrap();
         let e = Panorama::open(&fake).unwrap_err().to_string();
-        assert!(e.contains("fake.png is not a PNG or JPEG"), "{e}");
+        assert!(e.contains("fake.png is not a readable PNG or JPEG"), "{e}");
         let empty = dir.path().join("empty");
         std::fs::create_dir(&empty).unwrap();
         let e = Panorama::open(&empty).unwrap_err().to_string();

@@ -10,13 +10,10 @@ use std::fmt;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::frame::Rendered;
-use crate::projection::disparity::{
+use super::View;
+use super::disparity::{
     ARCMIN_PER_RADIAN, angular_disparity, disparity_gradient, perceived_distance,
 };
-use crate::projection::{Eye, Image, Stereo, View};
-use crate::render::RenderSettings;
-use crate::render::hit_points::hit_point;
 
 /// Per-pixel angular disparity of the left eye's image, arcminutes, row-major.
 #[derive(Debug, Clone, PartialEq)]
@@ -60,7 +57,7 @@ pub fn disparity_image(
 }
 
 /// The disparity image whose pixel `(i, j)` has disparity `at(i, j)` (radians).
-fn disparity_image_of(
+pub fn disparity_image_of(
     width: u32,
     height: u32,
     at: impl Fn(u32, u32) -> Option<(f64, f64)> + Sync,
@@ -87,42 +84,6 @@ fn disparity_image_of(
         dh,
         dv,
     }
-}
-
-/// The disparity image of `rendered` (drawn under `settings`, its output at `image`): the
-/// surface each left-eye pixel sees, placed in both eyes of `model` (default: the settings'
-/// own stereo, depth map included). Cube-map eyes see from their parallel cameras, so their
-/// model is `parallel`. Under a depth map each surface point stands in for its sphere's
-/// centre: its own ODS radius places it (the pixel's ray origin refined once with it).
-pub fn left_eye_disparity(
-    rendered: &Rendered,
-    settings: &RenderSettings,
-    image: &Image,
-    model: Option<Stereo>,
-) -> DisparityImage {
-    let frame = rendered.frames()[0];
-    let camera = settings.camera;
-    let map = settings.depth_map;
-    // `View::eye` gives cube-map eyes their parallel cameras.
-    let drawn = View::eye(camera, &settings.stereo, Eye::Left).with_depth_map(map);
-    let map = if model.is_none() { map } else { None };
-    let model = model.unwrap_or(settings.stereo);
-    let left = View::eye(camera, &model, Eye::Left).with_depth_map(map);
-    let right = View::eye(camera, &model, Eye::Right).with_depth_map(map);
-    if drawn.depth_map.is_none() && left.depth_map.is_none() {
-        return disparity_image(
-            frame.width,
-            frame.height,
-            |i, j| hit_point(frame, &drawn, image, i, j),
-            &left,
-            &right,
-        );
-    }
-    disparity_image_of(frame.width, frame.height, |i, j| {
-        let first = hit_point(frame, &drawn.with_depth_map(None), image, i, j)?;
-        let p = hit_point(frame, &drawn.for_sphere(first), image, i, j)?;
-        angular_disparity(&left.for_sphere(p), &right.for_sphere(p), p)
-    })
 }
 
 /// How comfortable a disparity image is to view.
