@@ -7,7 +7,7 @@
 //! RAYON_NUM_THREADS=1 cargo run --release --example raytrace_perf -- generated 5000000
 //! ```
 //!
-//! `autzen` reads a LAS/LAZ file (default: ../shared/data/las/autzen_trim.laz);
+//! `autzen` reads a LAS/LAZ file (default: data/autzen_trim.laz, the sample);
 //! `generated` builds N points of synthetic terrain with walls, spaced like aerial LiDAR.
 //! The camera stands 1.7 m above open ground near the scene's XY centre; the radius is
 //! [`auto_radius`]. Default: 3840×1920 per eye, ODS (ipd 0.064 m).
@@ -31,7 +31,7 @@ struct Args {
     /// `autzen` (a LAS/LAZ file) or `generated` (synthetic terrain).
     #[arg(value_enum, default_value = "autzen")]
     scene: SceneKind,
-    /// autzen: the file [../shared/data/las/autzen_trim.laz]; generated: the point count
+    /// autzen: the file [data/autzen_trim.laz]; generated: the point count
     /// [5000000].
     source: Option<String>,
     /// Image width per eye.
@@ -69,10 +69,7 @@ fn main() -> anyhow::Result<()> {
             generated(n)
         }
         SceneKind::Autzen => {
-            let default = concat!(
-                env!("CARGO_MANIFEST_DIR"),
-                "/../shared/data/las/autzen_trim.laz"
-            );
+            let default = concat!(env!("CARGO_MANIFEST_DIR"), "/data/autzen_trim.laz");
             load_las(args.source.as_deref().unwrap_or(default))?
         }
     };

@@ -8,12 +8,10 @@
 #![cfg(all(feature = "web", feature = "gpu"))]
 
 mod browser_common;
-#[path = "raster_common/gpu.rs"]
-mod gpu;
 mod http_common;
+mod serve_common;
 
 use std::net::SocketAddr;
-use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use browser_common::{Chromium, XR_STUB, chromium, js, launch, mouse, open_viewer, screenshot};
@@ -22,19 +20,11 @@ use headless_chrome::protocol::cdp::Input::DispatchMouseEventTypeOption as M;
 use image::RgbaImage;
 use indicatif::ProgressBar;
 use omnicloud::prepare::{PrepareOptions, prepare};
-use omnicloud::raster::RasterError;
 use omnicloud::web::Running;
-use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError};
+use serve_common::{UNDER_TREES, sample, start_live};
 
 /// Panorama width of the served renders.
 const WIDTH: u32 = 256;
-
-/// Under the tree canopy west of the bridge, where much of the scan lies above 45° latitude.
-const UNDER_TREES: (f64, f64) = (636291.76, 849305.2);
-
-fn sample() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
-}
 
 /// A live server of the sample; `None` (after the GPU rule's notice) without an adapter.
 fn start() -> Option<Running> {
@@ -45,20 +35,7 @@ fn start() -> Option<Running> {
     )
     .unwrap()
     .scene;
-    let options = LiveOptions {
-        width: WIDTH,
-        map_size: 256,
-        ..LiveOptions::default()
-    };
-    let scan = LiveScan::new(&sample(), scene, options).unwrap();
-    match LiveServer::bind("127.0.0.1", 0, scan) {
-        Ok(server) => Some(server.spawn()),
-        Err(ServeError::Raster(e @ RasterError::NoAdapter)) => {
-            gpu::require_or_skip(&format!("serve has no adapter: {e}"));
-            None
-        }
-        Err(e) => panic!("serve could not start: {e}"),
-    }
+    start_live(scene, WIDTH)
 }
 
 /// Chromium, and the server, or `None` when either is missing (after its notice).

@@ -2,6 +2,8 @@
 //! independent read of the file (the `las` crate); the same counts in the streamed path; clear
 //! errors when a file lacks what a filter needs.
 
+mod data_common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -246,9 +248,9 @@ fn ply_classes_are_read_and_a_missing_attribute_is_a_clear_error() {
         "{e}"
     );
 
-    let building = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/ply/building.ply");
+    let building = data_common::building_ply();
     let out = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
-        .args(["render", building.to_str().unwrap(), "-o"])
+        .args(["render", building.path().to_str().unwrap(), "-o"])
         .arg(dir.path().join("b.png"))
         .args(["--drop-classes", "7", "--width", "64"])
         .output()

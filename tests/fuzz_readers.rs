@@ -1,5 +1,6 @@
 //! Mutation fuzzing of the point-cloud readers: truncated, bit-flipped and garbage-header
-//! variants of every shared LAS/LAZ file and of generated PLY files (ascii, binary LE/BE).
+//! variants of every LAS/LAZ file of laspy's test data and of generated PLY files (ascii,
+//! binary LE/BE).
 //!
 //! For every variant, `open` + streaming all chunks + `load_scene` must return an error naming
 //! the file or a valid scene; never panic, never hang (each input runs on a worker thread with
@@ -8,11 +9,14 @@
 //!
 //! `PROPTEST_CASES` scales the random parts (proptest default: 256 cases per property).
 
+mod data_common;
+
+use data_common::{LASPY_FILES, laspy};
 use omnicloud::io::{self, LoadError, LoadOptions};
 use proptest::prelude::*;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Duration;
 
 /// Any single allocation above this, caused by inputs under 1 MB, is a bug (a header count
@@ -106,26 +110,13 @@ static ALLOCATOR: Capped = Capped;
 /// machine: the largest input (autzen_trim.laz, 110,000 points) loads twice in ~0.2 s.
 const DEADLINE: Duration = Duration::from_secs(30);
 
-fn shared(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
-        .join(rel)
-}
-
-/// Every LAS/LAZ file of the shared folder: (name, bytes).
+/// Every LAS/LAZ file of laspy's test data: (name, bytes), by name.
 fn las_files() -> Vec<(String, Vec<u8>)> {
-    let dir = shared("las");
-    let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.unwrap().path())
-        .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("las" | "laz")))
-        .map(|p| {
-            let name = p.file_name().unwrap().to_string_lossy().into_owned();
-            (name, std::fs::read(&p).unwrap())
-        })
+    let mut files: Vec<(String, Vec<u8>)> = LASPY_FILES
+        .iter()
+        .map(|name| (name.to_string(), std::fs::read(laspy(name)).unwrap()))
         .collect();
     files.sort();
-    assert!(files.len() >= 7, "expected the 7 shared LAS/LAZ files");
     files
 }
 
@@ -393,7 +384,7 @@ fn truncated_ply() {
     }
 }
 
-/// Every shared LAS/LAZ file with each size field of its header and VLRs made too large (one
+/// Every laspy LAS/LAZ file with each size field of its header and VLRs made too large (one
 /// at a time): the header size, the offset to the point data, the VLR count, each VLR's
 /// length, the EVLR start and count, the record length and the point counts. A field that
 /// points past the end of the file must give an error.
@@ -440,7 +431,7 @@ fn oversized_header_fields_of_every_las_file_give_errors() {
     );
 }
 
-/// Every shared LAS/LAZ file, one byte inverted at a time: every byte of the LAS header, of
+/// Every laspy LAS/LAZ file, one byte inverted at a time: every byte of the LAS header, of
 /// each VLR's header, of the LASzip VLR and of the first 64 bytes of point data (chunk table
 /// offset, first chunk), and every 23rd byte of the other VLR payloads (projection text).
 /// Files above 100 kB (each variant reads up to 110,000 points) take every 23rd of those.
@@ -790,11 +781,11 @@ fn unmodified_seeds_load() {
     }
 }
 
-/// Regressions: the exact inputs the harness found, rebuilt from the shared files by the
+/// Regressions: the exact inputs the harness found, rebuilt from laspy's files by the
 /// bytes that differ. Each must give an error naming the file (or a valid scene), with no
 /// allocation above the cap.
 fn regression(file: &str, edits: &[(usize, &[u8])]) -> Vec<u8> {
-    let mut bytes = std::fs::read(shared(&format!("las/{file}"))).unwrap();
+    let mut bytes = std::fs::read(laspy(file)).unwrap();
     for (at, new) in edits {
         bytes[*at..*at + new.len()].copy_from_slice(new);
     }
@@ -837,7 +828,7 @@ fn regression_huge_laz_point_count_reserves_no_memory() {
 fn regression_extended_vlr_length_is_checked() {
     // A corrupt 64-bit EVLR length went straight into a Vec::resize (17 GB).
     let dir = tempdir();
-    let original = std::fs::read(shared("las/1_4_w_evlr.laz")).unwrap();
+    let original = std::fs::read(laspy("1_4_w_evlr.laz")).unwrap();
     let start = u64::from_le_bytes(original[235..243].try_into().unwrap()) as usize;
     let bytes = regression(
         "1_4_w_evlr.laz",
@@ -923,7 +914,7 @@ fn regression_laz_chunk_size_of_one_is_an_error_not_minutes_of_decoding() {
     // harness with 3,000 cases): the decoder restarted on each of its 110,000 points, reading
     // garbage, for more than 30 s before it failed.
     let dir = tempdir();
-    let original = std::fs::read(shared("las/autzen_trim.laz")).unwrap();
+    let original = std::fs::read(laspy("autzen_trim.laz")).unwrap();
     let at = laszip_payload(&original) + 12;
     let bytes = regression("autzen_trim.laz", &[(at, &1u32.to_le_bytes())]);
     let started = std::time::Instant::now();
@@ -939,7 +930,7 @@ fn regression_layered_laz_layer_size_is_checked_before_the_decoder_allocates_it(
     // 8-byte chunk table offset, the 30-byte raw first point and the u32 point count) set to
     // 4 GB - 16. laz zero-filled that much before reading; the allocator cap aborted.
     let dir = tempdir();
-    let original = std::fs::read(shared("las/1_4_w_evlr.laz")).unwrap();
+    let original = std::fs::read(laspy("1_4_w_evlr.laz")).unwrap();
     let first_layer = las_point_offset(&original) + 8 + 30 + 4;
     for (k, size) in [(0usize, 0xFFFF_FFF0u32), (8, 1 << 31), (4, 9_000)] {
         let at = first_layer + 4 * k;
@@ -955,7 +946,7 @@ fn regression_laz_chunk_table_count_is_checked_before_the_decoder_reserves_it() 
     // The u32 chunk count of 1_4_w_evlr.laz's chunk table set to 2^32 - 1: laz reserved
     // 16 bytes per entry (64 GiB) before decoding the table.
     let dir = tempdir();
-    let original = std::fs::read(shared("las/1_4_w_evlr.laz")).unwrap();
+    let original = std::fs::read(laspy("1_4_w_evlr.laz")).unwrap();
     let p = las_point_offset(&original);
     let table = i64::from_le_bytes(original[p..p + 8].try_into().unwrap()) as usize;
     let bytes = regression("1_4_w_evlr.laz", &[(table + 4, &u32::MAX.to_le_bytes())]);
@@ -1036,7 +1027,7 @@ fn regression_laz_chunk_table_offset_past_the_end_is_an_error() {
     // header_bytes_of_every_las_file_inverted): the offset, 2^48, is past what the file system
     // can seek to; laz then started decoding 8 bytes late and zero-filled a 4.2 GB layer.
     let dir = tempdir();
-    let original = std::fs::read(shared("las/1_4_w_evlr.laz")).unwrap();
+    let original = std::fs::read(laspy("1_4_w_evlr.laz")).unwrap();
     let at = las_point_offset(&original) + 5;
     let bytes = regression("1_4_w_evlr.laz", &[(at, &[!original[at]])]);
     let e = load_error(dir.path(), "offset.laz", &bytes).expect("must fail");

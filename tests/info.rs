@@ -1,9 +1,12 @@
 //! `omnicloud info`: header-only by default, `--stats` for a pass over the points, `--json`
 //! for scripts, the coordinate system from the WKT VLR or the GeoTIFF keys.
 
-use std::path::{Path, PathBuf};
+mod data_common;
+
+use std::path::Path;
 use std::process::{Command, Output};
 
+use data_common::{LASPY_FILES, building_ply, laspy, lion, lion_ply};
 use serde_json::Value;
 
 fn omnicloud(args: &[&str]) -> Output {
@@ -11,10 +14,6 @@ fn omnicloud(args: &[&str]) -> Output {
         .args(args)
         .output()
         .expect("the binary runs")
-}
-
-fn shared_data() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data")
 }
 
 fn json_of(out: &Output) -> Value {
@@ -55,18 +54,14 @@ fn xyz(v: &Value) -> [f64; 3] {
 }
 
 #[test]
-fn json_of_every_shared_file_gives_the_header_count_and_bounds() {
-    let mut files = Vec::new();
-    for dir in ["las", "large", "ply"] {
-        for entry in std::fs::read_dir(shared_data().join(dir)).unwrap() {
-            let path = entry.unwrap().path();
-            let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase());
-            if matches!(ext.as_deref(), Some("las" | "laz" | "ply")) {
-                files.push(path);
-            }
-        }
-    }
-    assert!(files.len() >= 10, "{files:?}");
+fn json_of_every_test_file_gives_the_header_count_and_bounds() {
+    let (building, lion_ply) = (building_ply(), lion_ply());
+    let mut files: Vec<_> = LASPY_FILES.iter().map(|name| laspy(name)).collect();
+    files.extend([
+        lion(),
+        building.path().to_owned(),
+        lion_ply.path().to_owned(),
+    ]);
     for path in files {
         let name = path.display().to_string();
         let out = omnicloud(&["info", "--json", &name]);
@@ -215,7 +210,7 @@ fn a_wkt_crs_is_printed_by_name_with_its_epsg_code() {
 fn header_mode_reads_no_point_and_stats_report_truncation() {
     let dir = tempfile::tempdir().unwrap();
     // simple.las: 1,065 records of 34 bytes after a 227-byte header; cut inside the points.
-    let whole = std::fs::read(shared_data().join("las/simple.las")).unwrap();
+    let whole = std::fs::read(laspy("simple.las")).unwrap();
     let cut = dir.path().join("cut.las");
     std::fs::write(&cut, &whole[..20_000]).unwrap();
     let name = cut.to_str().unwrap();
@@ -261,8 +256,8 @@ fn header_mode_reads_no_point_and_stats_report_truncation() {
 
 #[test]
 fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/las/1_4_w_evlr.laz");
-    let out = omnicloud(&["info", shared.to_str().unwrap()]);
+    let evlr = laspy("1_4_w_evlr.laz");
+    let out = omnicloud(&["info", evlr.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{out:?}");
     assert!(
@@ -270,7 +265,7 @@ fn survey_feet_are_named_and_a_render_in_feet_says_what_its_rig_is() {
         "{text}"
     );
     assert!(text.contains("x 6.320 ftUS)"), "{text}");
-    let v = json_of(&omnicloud(&["info", "--json", shared.to_str().unwrap()]));
+    let v = json_of(&omnicloud(&["info", "--json", evlr.to_str().unwrap()]));
     let per_unit = v["crs"]["units"]["across_metres"].as_f64().unwrap();
     assert!((per_unit - 1200.0 / 3937.0).abs() < 1e-15, "{per_unit}");
 

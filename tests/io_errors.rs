@@ -1,13 +1,10 @@
 //! Every bad input gives the right typed error naming the file, never a panic.
 
+mod data_common;
+
+use data_common::laspy;
 use omnicloud::io::{self, LoadError, LoadOptions};
 use std::path::{Path, PathBuf};
-
-fn shared(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
-        .join(rel)
-}
 
 /// Loads the whole file (header and points); the error must name the file.
 fn load_err(path: &Path) -> LoadError {
@@ -31,7 +28,7 @@ fn write(dir: &tempfile::TempDir, name: &str, bytes: &[u8]) -> PathBuf {
 
 /// `simple.las`, LAS 1.2, 1065 points of 34 bytes.
 fn simple_las() -> Vec<u8> {
-    std::fs::read(shared("las/simple.las")).unwrap()
+    std::fs::read(laspy("simple.las")).unwrap()
 }
 
 fn offset_to_points(las: &[u8]) -> usize {
@@ -143,12 +140,8 @@ fn truncated_las_at_every_kind_of_cut() {
 #[test]
 fn truncated_laz_fails_cleanly() {
     let dir = tempfile::tempdir().unwrap();
-    for file in [
-        "las/simple.laz",
-        "las/autzen_trim.laz",
-        "las/1_4_w_evlr.laz",
-    ] {
-        let laz = std::fs::read(shared(file)).unwrap();
+    for file in ["simple.laz", "autzen_trim.laz", "1_4_w_evlr.laz"] {
+        let laz = std::fs::read(laspy(file)).unwrap();
         let len = laz.len();
         for cut in [3, 100, 400, len / 4, len / 2, len - 100, len - 1] {
             let path = write(&dir, &format!("cut_{cut}.laz"), &laz[..cut]);

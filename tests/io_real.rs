@@ -1,23 +1,13 @@
 //! Real scans load with the right counts, attributes and colours.
 
+mod data_common;
+
+use data_common::{BUILDING_POINTS, LION_POINTS, autzen, building_ply, laspy, lion, lion_ply};
 use glam::DVec3;
 use omnicloud::io::{self, ColorDepth, ColorScale, Format, LoadOptions, PlyEncoding};
-use std::path::{Path, PathBuf};
 
-fn shared(rel: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
-        .join(rel);
-    assert!(
-        p.exists(),
-        "{} is missing: the shared data folder must sit next to the project",
-        p.display()
-    );
-    p
-}
-
-/// Every file of the shared las/ folder with its point count, LAS version and point format
-/// (from the folder's README).
+/// Every LAS/LAZ file of laspy's test data with its point count, LAS version and point format
+/// (from tests/data/README.md).
 const LAS_FILES: [(&str, u64, &str, u8); 8] = [
     ("autzen_trim.laz", 110_000, "1.2", 3),
     ("simple.las", 1_065, "1.2", 3),
@@ -30,9 +20,10 @@ const LAS_FILES: [(&str, u64, &str, u8); 8] = [
 ];
 
 #[test]
-fn every_shared_las_file_loads_with_its_point_count() {
+fn every_laspy_file_loads_with_its_point_count() {
+    assert_eq!(LAS_FILES.map(|f| f.0), data_common::LASPY_FILES);
     for (name, count, version, point_format) in LAS_FILES {
-        let path = shared(&format!("las/{name}"));
+        let path = laspy(name);
         let reader = io::open(&path).unwrap();
         let info = reader.info().clone();
         assert_eq!(info.point_count, count, "{name}");
@@ -71,8 +62,8 @@ fn every_shared_las_file_loads_with_its_point_count() {
 
 #[test]
 fn las_and_laz_of_the_same_points_agree() {
-    let (a, _) = io::load_scene(&shared("las/simple.las"), &LoadOptions::default()).unwrap();
-    let (b, _) = io::load_scene(&shared("las/simple.laz"), &LoadOptions::default()).unwrap();
+    let (a, _) = io::load_scene(&laspy("simple.las"), &LoadOptions::default()).unwrap();
+    let (b, _) = io::load_scene(&laspy("simple.laz"), &LoadOptions::default()).unwrap();
     assert_eq!(a.origin, b.origin);
     assert_eq!(a.positions, b.positions);
     assert_eq!(a.attributes, b.attributes);
@@ -80,7 +71,7 @@ fn las_and_laz_of_the_same_points_agree() {
 
 #[test]
 fn autzen_keeps_8_bit_values_stored_in_16_bit_fields() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+    let path = autzen();
     let (scene, report) = io::load_scene(&path, &LoadOptions::default()).unwrap();
     assert_eq!(scene.len(), 110_000);
     assert_eq!(report.color_scale, Some(ColorScale::Low8In16));
@@ -118,21 +109,24 @@ fn autzen_keeps_8_bit_values_stored_in_16_bit_fields() {
 }
 
 #[test]
-fn lion_las_uses_full_16_bit_range_and_matches_its_ply() {
-    let las_path = shared("large/potree_lion_takanawa_merged.las");
-    let ply_path = shared("large/potree_lion_takanawa_merged.ply");
+fn lion_laz_uses_full_16_bit_range_and_matches_its_ply() {
+    let las_path = lion();
+    let ply = lion_ply();
+    let ply_path = ply.path();
     let (las_scene, las_report) = io::load_scene(&las_path, &LoadOptions::default()).unwrap();
-    assert_eq!(las_scene.len(), 341_989);
+    assert_eq!(las_scene.len(), LION_POINTS);
     assert_eq!(las_report.color_scale, Some(ColorScale::Full16));
+    assert_eq!(las_report.info.format, Format::Laz);
+    assert_eq!(las_report.info.version, "1.2");
     assert_eq!(las_report.info.point_format, Some(2));
 
-    let ply_info = io::open(&ply_path).unwrap().info().clone();
+    let ply_info = io::open(ply_path).unwrap().info().clone();
     assert_eq!(
         ply_info.format,
         Format::Ply(PlyEncoding::BinaryLittleEndian)
     );
     assert_eq!(ply_info.color_depth, ColorDepth::Bits8);
-    assert_eq!(ply_info.point_count, 341_989);
+    assert_eq!(ply_info.point_count, LION_POINTS as u64);
     assert_eq!(ply_info.bounds, None);
 
     // Same origin for both so positions compare directly.
@@ -140,8 +134,8 @@ fn lion_las_uses_full_16_bit_range_and_matches_its_ply() {
         origin: Some(las_report.origin),
         ..LoadOptions::default()
     };
-    let (ply_scene, ply_report) = io::load_scene(&ply_path, &options).unwrap();
-    assert_eq!(ply_scene.len(), 341_989);
+    let (ply_scene, ply_report) = io::load_scene(ply_path, &options).unwrap();
+    assert_eq!(ply_scene.len(), LION_POINTS);
     assert_eq!(ply_report.color_scale, Some(ColorScale::Direct8));
     let max_diff = las_scene
         .positions
@@ -167,11 +161,12 @@ fn lion_las_uses_full_16_bit_range_and_matches_its_ply() {
 
 #[test]
 fn building_ply_skips_normals_and_segment_index() {
-    let path = shared("ply/building.ply");
-    let reader = io::open(&path).unwrap();
+    let building = building_ply();
+    let path = building.path();
+    let reader = io::open(path).unwrap();
     let info = reader.info().clone();
     assert_eq!(info.format, Format::Ply(PlyEncoding::Ascii));
-    assert_eq!(info.point_count, 100_000);
+    assert_eq!(info.point_count, BUILDING_POINTS as u64);
     assert_eq!(info.color_depth, ColorDepth::None);
     assert_eq!(
         info.ignored_properties,
@@ -181,23 +176,27 @@ fn building_ply_skips_normals_and_segment_index() {
     assert!(text.contains("points:        100,000"), "{text}");
     assert!(text.contains("PLY (ascii)"), "{text}");
 
-    let (scene, report) = io::load_scene(&path, &LoadOptions::default()).unwrap();
-    assert_eq!(scene.len(), 100_000);
-    assert_eq!(report.points_read, 100_000);
+    let (scene, report) = io::load_scene(path, &LoadOptions::default()).unwrap();
+    assert_eq!(scene.len(), BUILDING_POINTS);
+    assert_eq!(report.points_read, BUILDING_POINTS as u64);
     assert!(scene.attributes.rgb.is_none());
-    // First vertex of the file: 8.19821 -21.7553 7.88123.
+    // The first vertex line's x, y, z, read here as text.
+    let text = std::fs::read_to_string(path).unwrap();
+    let line = text.lines().skip_while(|l| *l != "end_header").nth(1);
+    let xyz: Vec<f64> = line
+        .unwrap()
+        .split(' ')
+        .take(3)
+        .map(|v| v.parse().unwrap())
+        .collect();
     let first = scene.origin + scene.positions[0].as_dvec3();
-    assert!(
-        (first - DVec3::new(8.19821, -21.7553, 7.88123))
-            .abs()
-            .max_element()
-            < 1e-5
-    );
+    let diff = (first - DVec3::from_slice(&xyz)).abs().max_element();
+    assert!(diff < 1e-5, "first point {first}, file {xyz:?}");
 }
 
 #[test]
 fn info_display_for_a_las_file() {
-    let path = shared("las/simple.las");
+    let path = laspy("simple.las");
     let text = io::open(&path).unwrap().info().to_string();
     let line = |key: &str| {
         text.lines()

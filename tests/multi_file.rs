@@ -1,6 +1,7 @@
 //! Several files rendered as one scene: tiles of a survey equal the merged file, bit for bit;
 //! the stream plan covers every input.
 
+mod data_common;
 #[path = "raster_common/gpu.rs"]
 mod gpu;
 
@@ -219,7 +220,7 @@ fn a_surveyed_plan_covers_every_tile() {
 #[test]
 fn files_in_different_coordinate_systems_are_flagged() {
     let dir = tempfile::tempdir().unwrap();
-    let simple = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/las/simple.las");
+    let simple = data_common::laspy("simple.las");
     let out = omnicloud(&[
         "render",
         autzen().to_str().unwrap(),

@@ -4,6 +4,8 @@
 //! Ray tracer, 512 wide. `cargo test --test radius_holes -- --nocapture` prints the table
 //! docs/PICTURES.md quotes.
 
+mod data_common;
+
 use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
@@ -18,17 +20,6 @@ const WIDTH: u32 = 512;
 
 fn autzen() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
-}
-
-fn lion() -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/large/potree_lion_takanawa_merged.las");
-    if p.exists() {
-        Some(p)
-    } else {
-        eprintln!("skipping the lion: {} is missing", p.display());
-        None
-    }
 }
 
 /// A 2 km generated terrain of 40,000 points (10 m spacing), written once per test run.
@@ -71,9 +62,7 @@ fn measure(name: &str, path: &Path, camera: CameraChoice, radius: Option<RadiusC
 #[test]
 fn default_render_has_fewer_holes_than_the_old_default() {
     let old = Some(RadiusChoice::Auto);
-    let mut cases = vec![("autzen", autzen())];
-    cases.extend(lion().map(|p| ("lion", p)));
-    for (name, path) in cases {
+    for (name, path) in [("autzen", autzen()), ("lion", data_common::lion())] {
         let before = measure(name, &path, CameraChoice::Center, old);
         let now = measure(name, &path, CameraChoice::Auto, None);
         assert!(now < before, "{name}: {now} % holes, {before} % before");
@@ -95,8 +84,11 @@ fn default_render_has_fewer_holes_than_the_old_default() {
 fn adaptive_radius_against_auto() {
     let adaptive = Some(RadiusChoice::Adaptive { k: 8 });
     let terrain = terrain();
-    let mut cases = vec![("autzen", autzen()), ("terrain", terrain.clone())];
-    cases.extend(lion().map(|p| ("lion", p)));
+    let cases = [
+        ("autzen", autzen()),
+        ("terrain", terrain.clone()),
+        ("lion", data_common::lion()),
+    ];
     for (name, path) in cases {
         let auto = measure(name, &path, CameraChoice::Auto, Some(RadiusChoice::Auto));
         let adapt = measure(name, &path, CameraChoice::Auto, adaptive);

@@ -1,6 +1,7 @@
 //! Ctrl-C during a render leaves no output and no temporary file, and exits non-zero with one
 //! line; staged (written, not yet renamed) files are removed by the interrupt path.
 
+mod data_common;
 mod interrupt_common;
 
 use std::path::Path;
@@ -17,8 +18,7 @@ fn leftovers(dir: &Path) -> Vec<String> {
 
 #[test]
 fn sigint_mid_render_leaves_nothing_behind() {
-    let input = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data/large/potree_lion_takanawa_merged.las");
+    let input = data_common::lion();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pano.exr");
     // 341,989 points ray-traced at 4096 x 2048, ODS: interrupted at its first progress line.

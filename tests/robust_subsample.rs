@@ -9,6 +9,8 @@
 //! Thresholds sit near the measured values: Autzen keeps 42.5 % with IoU 0.9990 and identical
 //! colour; the lion keeps 74.1 % with IoU 0.9929 and PSNR 58.4 dB; depth p99 is 0 in both.
 
+mod data_common;
+
 use indicatif::ProgressBar;
 use omnicloud::io::{LoadOptions, load_scene};
 use omnicloud::output::LinearImage;
@@ -27,17 +29,10 @@ fn frame(r: &Rendered) -> LinearImage {
 }
 
 /// (kept fraction, IoU, relative depth error p99, colour PSNR dB) of auto vs full.
-fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
-        .join(rel);
-    let (mut scene, _) = load_scene(&path, &LoadOptions::default()).unwrap();
-    placement::center_on_camera(
-        &mut scene,
-        omnicloud::prepare::CameraChoice::Center,
-        Default::default(),
-    )
-    .unwrap();
+fn measure(path: &Path, width: u32) -> (f64, f64, f64, f64) {
+    let (mut scene, _) = load_scene(path, &LoadOptions::default()).unwrap();
+    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, Default::default())
+        .unwrap();
     scene.radii = omnicloud::Radii::Uniform(radius::auto_radius(&scene));
     let mut settings = RenderSettings::new(width, Camera::new(glam::DVec3::ZERO, 0.0));
     settings.color = if scene.attributes.rgb.is_some() {
@@ -60,7 +55,8 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
     let depth = all.depth_relative.as_ref().map_or(0.0, |d| d.p99);
     let psnr = all.color_psnr_db.unwrap_or(f64::INFINITY);
     eprintln!(
-        "{rel} at {width}: kept {} of {} ({:.1}%), IoU {:.4}, mismatch {:.3}%, depth p50 {:.2e} p99 {:.2e}, PSNR {:.1} dB",
+        "{} at {width}: kept {} of {} ({:.1}%), IoU {:.4}, mismatch {:.3}%, depth p50 {:.2e} p99 {:.2e}, PSNR {:.1} dB",
+        path.display(),
         thin.len(),
         scene.len(),
         100.0 * kept,
@@ -75,7 +71,7 @@ fn measure(rel: &str, width: u32) -> (f64, f64, f64, f64) {
 
 #[test]
 fn auto_subsample_of_autzen_keeps_the_picture() {
-    let (kept, iou, depth, psnr) = measure("las/autzen_trim.laz", 1024);
+    let (kept, iou, depth, psnr) = measure(&data_common::autzen(), 1024);
     assert!(
         kept < 0.45,
         "kept {kept}: too little dropped on a dense scene"
@@ -87,7 +83,7 @@ fn auto_subsample_of_autzen_keeps_the_picture() {
 
 #[test]
 fn auto_subsample_of_the_lion_keeps_the_picture() {
-    let (kept, iou, depth, psnr) = measure("large/potree_lion_takanawa_merged.las", 1024);
+    let (kept, iou, depth, psnr) = measure(&data_common::lion(), 1024);
     assert!(kept < 0.76, "kept {kept}");
     assert!(iou >= 0.99, "coverage IoU {iou}");
     assert!(depth <= 1e-6, "relative depth error p99 {depth}");

@@ -2,6 +2,9 @@
 //! sequential reading, bad seeks are errors, a surveyed plan agrees with the in-core path,
 //! and streamed chunks are coloured as the in-core path colours them.
 
+mod data_common;
+
+use data_common::{autzen, building_ply, laspy, lion_ply};
 use glam::DVec3;
 use indicatif::ProgressBar;
 use omnicloud::io::{self, ColorScale, LoadError, LoadOptions, PointChunk, load_scene};
@@ -11,19 +14,7 @@ use omnicloud::render::{ColorMode, base_colors};
 use omnicloud::rng::SplitMix64;
 use omnicloud::scene::{Radii, Scene};
 use omnicloud::stream::{ChunkSink, PlanOptions, StreamError, StreamPlan, plan, stream_file};
-use std::path::{Path, PathBuf};
-
-fn shared(rel: &str) -> PathBuf {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/data")
-        .join(rel);
-    assert!(p.exists(), "{} is missing", p.display());
-    p
-}
-
-fn autzen() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
-}
+use std::path::Path;
 
 /// Colour scale used on both sides of a comparison, so detection plays no part.
 const SCALE: ColorScale = ColorScale::Full16;
@@ -69,14 +60,15 @@ fn slice(all: &PointChunk, from: usize, n: usize) -> PointChunk {
 #[test]
 fn seeks_read_the_same_points_as_sequential_reading() {
     const N: usize = 777;
+    let (lion_ply, building) = (lion_ply(), building_ply());
     for path in [
-        shared("las/simple.las"),
-        shared("las/simple1_4.las"),
-        shared("las/simple.laz"),
-        shared("las/1_4_w_evlr.laz"),
+        laspy("simple.las"),
+        laspy("simple1_4.las"),
+        laspy("simple.laz"),
+        laspy("1_4_w_evlr.laz"),
         autzen(),
-        shared("large/potree_lion_takanawa_merged.ply"),
-        shared("ply/building.ply"),
+        lion_ply.path().to_owned(),
+        building.path().to_owned(),
     ] {
         let all = read_all(&path);
         let n = all.len();
@@ -108,11 +100,12 @@ fn seeks_read_the_same_points_as_sequential_reading() {
 
 #[test]
 fn seeking_past_the_end_is_an_error_naming_the_file() {
+    let (lion_ply, building) = (lion_ply(), building_ply());
     for path in [
-        shared("las/simple.las"),
-        shared("las/simple.laz"),
-        shared("large/potree_lion_takanawa_merged.ply"),
-        shared("ply/building.ply"),
+        laspy("simple.las"),
+        laspy("simple.laz"),
+        lion_ply.path().to_owned(),
+        building.path().to_owned(),
     ] {
         let mut reader = io::open(&path).unwrap();
         let declared = reader.info().point_count;
@@ -362,11 +355,12 @@ fn decoded(plan: &StreamPlan) -> StreamPlan {
 
 #[test]
 fn streamed_chunks_are_coloured_as_in_core() {
+    let building = building_ply();
     for (path, mode) in [
         (autzen(), ColorMode::Auto),
         (autzen(), ColorMode::Intensity),
-        (shared("las/vegetation_1_3.las"), ColorMode::Auto),
-        (shared("ply/building.ply"), ColorMode::Elevation),
+        (laspy("vegetation_1_3.las"), ColorMode::Auto),
+        (building.path().to_owned(), ColorMode::Elevation),
     ] {
         let options = PlanOptions {
             color: mode,
@@ -444,11 +438,6 @@ fn a_failing_sink_stops_the_stream_with_its_error() {
         color: ColorMode::Classification,
         ..PlanOptions::default()
     };
-    let e = plan(
-        &shared("ply/building.ply"),
-        &options,
-        &ProgressBar::hidden(),
-    )
-    .unwrap_err();
+    let e = plan(building_ply().path(), &options, &ProgressBar::hidden()).unwrap_err();
     assert!(matches!(e, StreamError::Color(_)), "{e}");
 }

@@ -5,12 +5,10 @@
 //! skip loudly, and fail under `OMNICLOUD_REQUIRE_GPU=1`.
 #![cfg(all(feature = "web", feature = "gpu"))]
 
-#[path = "raster_common/gpu.rs"]
-mod gpu;
 mod http_common;
+mod serve_common;
 
 use std::net::SocketAddr;
-use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
 use glam::{DVec2, DVec3};
@@ -20,23 +18,13 @@ use omnicloud::Scene;
 use omnicloud::prepare::placement::{EYE_HEIGHT, ground_camera_position};
 use omnicloud::prepare::{EyeHeight, PrepareOptions, prepare};
 use omnicloud::projection::{Camera, Image, OdsOffset, PoleMerge, PoleMerging, Stereo};
-use omnicloud::raster::{RasterError, Rasterizer};
+use omnicloud::raster::Rasterizer;
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, Shading};
 use omnicloud::web::Running;
-use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError};
+use serve_common::{FEET_PER_METRE, UNDER_TREES, sample, start_live};
 
 /// Panorama width of the served renders.
 const WIDTH: u32 = 256;
-
-/// Under the tree canopy west of the bridge, where much of the scan lies above 45° latitude.
-const UNDER_TREES: (f64, f64) = (636291.76, 849305.2);
-
-/// The sample counts in international feet.
-const FEET_PER_METRE: f64 = 1.0 / 0.3048;
-
-fn sample() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz")
-}
 
 /// The sample prepared as `serve` prepares it (camera at the centre, default radius), once.
 fn scene() -> &'static Scene {
@@ -58,23 +46,7 @@ fn scene() -> &'static Scene {
 /// A live server of the sample at `width`; `None` (after the GPU rule's notice) without an
 /// adapter.
 fn start(width: u32) -> Option<Running> {
-    // As `serve` reads the sample: its IPD in metres, its coordinates in feet.
-    let options = LiveOptions {
-        width,
-        map_size: 256,
-        per_metre: FEET_PER_METRE,
-        metres_per_unit: Some(0.3048),
-        ..LiveOptions::default()
-    };
-    let scan = LiveScan::new(&sample(), scene().clone(), options).unwrap();
-    match LiveServer::bind("127.0.0.1", 0, scan) {
-        Ok(server) => Some(server.spawn()),
-        Err(ServeError::Raster(e @ RasterError::NoAdapter)) => {
-            gpu::require_or_skip(&format!("serve has no adapter: {e}"));
-            None
-        }
-        Err(e) => panic!("serve could not start: {e}"),
-    }
+    start_live(scene().clone(), width)
 }
 
 /// One server at [`WIDTH`] for the tests that need no other.
@@ -326,41 +298,23 @@ fn a_failed_render_gets_500_with_the_reason_and_serving_goes_on() {
 #[cfg(all(unix, feature = "cli"))]
 #[test]
 fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
-    use std::io::{BufRead, Read};
-    use std::process::{Command, Stdio};
-
     if shared().is_none() {
         return; // no adapter: the command would refuse to start
     }
-    let mut child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"));
+    command
         .args([
             "serve", "--host", "0.0.0.0", "--port", "0", "--width", "256",
         ])
         .args(["--map-size", "128", "--height", "2.5"])
-        .arg(sample())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-    let mut lines = Vec::new();
-    let url = loop {
-        let mut line = String::new();
-        assert!(
-            stdout.read_line(&mut line).unwrap() > 0,
-            "no address in {lines:?}"
-        );
-        if let Some(rest) = line.strip_prefix("open http://") {
-            break rest.split('/').next().unwrap().to_owned();
-        }
-        lines.push(line);
-    };
+        .arg(sample());
+    let server = http_common::ServerProcess::start(command);
+    let (lines, addr) = (&server.before, server.addr);
     assert!(
         lines[0]
             .contains("autzen_trim.laz (110000 points, radius adaptive:8 (median 1.2154 ft), map 128x62, ODS 256x256"),
         "{lines:?}"
     );
-    let addr: SocketAddr = url.parse().unwrap();
     assert!(addr.ip().is_loopback(), "{addr}");
     let scan: serde_json::Value = serde_json::from_slice(&get(addr, "/api/scan").body).unwrap();
     // 2.5 m in the sample's feet; the page's IPD in metres.
@@ -391,15 +345,8 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
         "the page starts where render stands"
     );
 
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "{out:?}");
-    let mut rest = String::new();
-    stdout.read_to_string(&mut rest).unwrap();
+    let out = server.interrupt();
+    let rest = String::from_utf8_lossy(&out.stdout);
     assert!(rest.contains("omnicloud serve: stopped"), "{rest}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(

@@ -5,7 +5,7 @@
 
 mod http_common;
 
-use std::io::{Read, Write};
+use std::io::Write;
 use std::net::{SocketAddr, TcpStream};
 use std::path::Path;
 
@@ -252,46 +252,21 @@ fn a_busy_port_and_a_missing_file_are_clear_errors() {
 #[cfg(all(unix, feature = "cli"))]
 #[test]
 fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
-    use std::io::BufRead;
-    use std::process::{Command, Stdio};
-
     let dir = tempfile::tempdir().unwrap();
     write_frames(dir.path(), 2);
-    let mut child = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"));
+    command
         .args(["view", "--host", "0.0.0.0", "--port", "0"])
-        .arg(dir.path())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stdout = std::io::BufReader::new(child.stdout.take().unwrap());
-    let mut lines = Vec::new();
-    let url = loop {
-        let mut line = String::new();
-        assert!(
-            stdout.read_line(&mut line).unwrap() > 0,
-            "no address in {lines:?}"
-        );
-        if let Some(rest) = line.strip_prefix("open http://") {
-            break rest.split('/').next().unwrap().to_owned();
-        }
-        lines.push(line);
-    };
+        .arg(dir.path());
+    let server = http_common::ServerProcess::start(command);
+    let (lines, addr) = (&server.before, server.addr);
     assert!(lines[0].contains("mono 64x32, 2 frame(s)"), "{lines:?}");
-    let addr: SocketAddr = url.parse().unwrap();
     assert!(addr.ip().is_loopback(), "{addr}");
     let json: serde_json::Value = serde_json::from_slice(&get(addr, "/api/info").body).unwrap();
     assert_eq!(json["frames"], 2);
 
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "{out:?}");
-    let mut rest = String::new();
-    stdout.read_to_string(&mut rest).unwrap();
+    let out = server.interrupt();
+    let rest = String::from_utf8_lossy(&out.stdout);
     assert!(rest.contains("omnicloud view: stopped"), "{rest}");
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(

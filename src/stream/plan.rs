@@ -562,10 +562,25 @@ mod tests {
     use crate::prepare::{RadiusChoice, prepare};
     use crate::render::base_colors;
 
-    fn shared(rel: &str) -> PathBuf {
+    /// The generated building the integration tests read too (an ASCII PLY with properties
+    /// a reader skips).
+    mod building {
+        include!("../../tests/data_common/building.rs");
+    }
+
+    /// A file of laspy's test data, kept in tests/data/laspy/.
+    fn laspy(name: &str) -> PathBuf {
         Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../shared/data")
-            .join(rel)
+            .join("tests/data/laspy")
+            .join(name)
+    }
+
+    /// [`building`] written into a temporary folder (kept while the guard lives).
+    fn building_ply() -> (tempfile::TempDir, PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("building.ply");
+        building::write_building_ply(&path).unwrap();
+        (dir, path)
     }
 
     /// A file small enough to be read whole is planned exactly as the in-core path
@@ -574,6 +589,7 @@ mod tests {
     #[test]
     fn small_files_are_planned_exactly_as_in_core() {
         let autzen = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz");
+        let (_dir, building) = building_ply();
         let cases: Vec<(PathBuf, Option<DVec3>, Option<RadiusChoice>, ColorMode)> = vec![
             (autzen.clone(), None, None, ColorMode::Auto),
             (autzen.clone(), None, None, ColorMode::Elevation),
@@ -583,39 +599,24 @@ mod tests {
                 Some(RadiusChoice::Fixed(0.3)),
                 ColorMode::Intensity,
             ),
-            (shared("las/simple.las"), None, None, ColorMode::Auto),
+            (laspy("simple.las"), None, None, ColorMode::Auto),
             (
-                shared("las/simple.laz"),
+                laspy("simple.laz"),
                 None,
                 Some(RadiusChoice::Auto),
                 ColorMode::Classification,
             ),
-            (
-                shared("las/simple1_4.las"),
-                None,
-                None,
-                ColorMode::Elevation,
-            ),
-            (
-                shared("las/vegetation_1_3.las"),
-                None,
-                None,
-                ColorMode::Auto,
-            ),
-            (
-                shared("las/1_4_w_evlr.laz"),
-                None,
-                None,
-                ColorMode::Intensity,
-            ),
+            (laspy("simple1_4.las"), None, None, ColorMode::Elevation),
+            (laspy("vegetation_1_3.las"), None, None, ColorMode::Auto),
+            (laspy("1_4_w_evlr.laz"), None, None, ColorMode::Intensity),
             // A given camera: the header bounds' centre, off the ground.
             (
-                shared("las/vegetation_1_3.las"),
+                laspy("vegetation_1_3.las"),
                 Some(DVec3::NAN),
                 None,
                 ColorMode::Elevation,
             ),
-            (shared("ply/building.ply"), None, None, ColorMode::Auto),
+            (building, None, None, ColorMode::Auto),
         ];
         for (path, camera, radius, color) in cases {
             let camera = camera.map(|_| {
@@ -662,10 +663,11 @@ mod tests {
     /// points as seeking.
     #[test]
     fn survey_by_seeking_equals_survey_by_reading_past_gaps() {
+        let (_dir, building) = building_ply();
         for path in [
             Path::new(env!("CARGO_MANIFEST_DIR")).join("data/autzen_trim.laz"),
-            shared("ply/building.ply"),
-            shared("las/simple1_4.las"),
+            building,
+            laspy("simple1_4.las"),
         ] {
             let declared = io::open(&path).unwrap().info().point_count;
             let blocks = survey_blocks(declared, 9_000);
