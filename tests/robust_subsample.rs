@@ -31,8 +31,12 @@ fn frame(r: &Rendered) -> LinearImage {
 /// (kept fraction, IoU, relative depth error p99, colour PSNR dB) of auto vs full.
 fn measure(path: &Path, width: u32) -> (f64, f64, f64, f64) {
     let (mut scene, _) = load_scene(path, &LoadOptions::default()).unwrap();
-    placement::center_on_camera(&mut scene, omnicloud::prepare::CameraChoice::Center, Default::default())
-        .unwrap();
+    placement::center_on_camera(
+        &mut scene,
+        omnicloud::prepare::CameraChoice::Center,
+        Default::default(),
+    )
+    .unwrap();
     scene.radii = omnicloud::Radii::Uniform(radius::auto_radius(&scene));
     let mut settings = RenderSettings::new(width, Camera::new(glam::DVec3::ZERO, 0.0));
     settings.color = if scene.attributes.rgb.is_some() {

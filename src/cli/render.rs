@@ -298,8 +298,9 @@ fn render_map(
         .map_err(|e| anyhow!("{}: {e}", args.inputs_name()))?;
     if let crate::projection::Projection::Map(Some(f)) = map.projection {
         let o = prepared.scene.origin;
+        let unit = prepared.report.info.length_symbol();
         say(format!(
-            "{}: map over x {:.2}..{:.2}, y {:.2}..{:.2} ({:.1} x {:.1} m), {}x{} px",
+            "{}: map over x {:.2}..{:.2}, y {:.2}..{:.2} ({:.1} x {:.1} {unit}), {}x{} px",
             args.inputs_name(),
             f.x0 + o.x,
             f.x1 + o.x,

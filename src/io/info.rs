@@ -388,8 +388,8 @@ impl FileInfo {
         self.records_in_file.is_some_and(|n| n < self.point_count)
     }
 
-    /// The header facts as JSON, for scripts. Field names are stable (README, "omnicloud
-    /// info --json"); fields a format lacks are `null`.
+    /// The header facts as JSON, for scripts. Field names are stable (docs/guide/info.md,
+    /// `info --json`); fields a format lacks are `null`.
     pub fn to_json(&self) -> Value {
         let (format, encoding) = match self.format {
             Format::Las => ("LAS", None),
