@@ -67,7 +67,12 @@ fn the_default_output_is_the_plain_render_byte_for_byte() {
     let rendered = raytrace::render(&prepared.scene, &settings, &ProgressBar::hidden()).unwrap();
     for ext in ["png", "jpg", "exr"] {
         let reference = dir.path().join(format!("reference.{ext}"));
-        output::write_image_with(&reference, &rendered, &OutputOptions::default()).unwrap();
+        // The sample's feet, as `render` records them in the description.
+        let options = OutputOptions {
+            metres_per_unit: Some(0.3048),
+            ..OutputOptions::default()
+        };
+        output::write_image_with(&reference, &rendered, &options).unwrap();
         let cli = ok(&dir.path().join(format!("cli.{ext}")), &[]);
         let reference = std::fs::read(reference).unwrap();
         assert_eq!(std::fs::read(&cli).unwrap(), reference, ".{ext}");
