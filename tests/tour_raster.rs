@@ -41,6 +41,15 @@ fn room() -> Scene {
     Scene::new(DVec3::new(636_000.0, 849_000.0, 400.0), pts, 0.2)
 }
 
+/// An ODS pair at a 64 mm IPD with comfortable pole merging.
+fn ods() -> Stereo {
+    Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    }
+}
+
 fn eyes(r: &Rendered) -> Vec<&Frame> {
     match r {
         Rendered::Mono(f) => vec![f],
@@ -79,11 +88,7 @@ fn an_uploaded_scene_renders_from_any_camera_centre() {
         ..RenderSettings::new(256, Camera::new(DVec3::ZERO, 0.0))
     };
     let resident = rasterizer.upload(&scene, &at_zero).unwrap();
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
+    let ods = ods();
     for (stereo, center, yaw) in [
         (Stereo::Mono, DVec3::new(5.3, -2.1, 1.7), 30.0),
         (ods, DVec3::new(-7.9, 4.4, 1.2), -120.0),
@@ -223,11 +228,7 @@ fn a_scene_streamed_every_frame_renders_as_the_resident_upload() {
         "{}",
         streamed.describe()
     );
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
+    let ods = ods();
     for (stereo, center, yaw) in [
         (Stereo::Mono, DVec3::new(5.3, -2.1, 1.7), 30.0),
         (ods, DVec3::new(-7.9, 4.4, 1.2), -120.0),
@@ -258,14 +259,9 @@ fn a_resident_placed_at_each_camera_renders_as_the_upload_for_that_camera() {
     };
     let scene = room();
     let hidden = ProgressBar::hidden();
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
     let at = |center: DVec3| RenderSettings {
         color: ColorMode::Elevation,
-        stereo: ods,
+        stereo: ods(),
         ..RenderSettings::new(256, Camera::new(center, 0.0))
     };
     // What serve did with its own upload per camera position.
