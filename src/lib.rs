@@ -28,6 +28,7 @@ pub mod projection;
 pub mod raster;
 pub mod raytrace;
 pub mod render;
+pub mod renderer;
 pub mod rng;
 pub mod scene;
 pub mod stats;

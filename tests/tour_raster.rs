@@ -41,6 +41,15 @@ fn room() -> Scene {
     Scene::new(DVec3::new(636_000.0, 849_000.0, 400.0), pts, 0.2)
 }
 
+/// An ODS pair at a 64 mm IPD with comfortable pole merging.
+fn ods() -> Stereo {
+    Stereo::Ods {
+        ipd: 0.064,
+        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
+        offset: OdsOffset::Exact,
+    }
+}
+
 fn eyes(r: &Rendered) -> Vec<&Frame> {
     match r {
         Rendered::Mono(f) => vec![f],
@@ -79,11 +88,7 @@ fn an_uploaded_scene_renders_from_any_camera_centre() {
         ..RenderSettings::new(256, Camera::new(DVec3::ZERO, 0.0))
     };
     let resident = rasterizer.upload(&scene, &at_zero).unwrap();
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
+    let ods = ods();
     for (stereo, center, yaw) in [
         (Stereo::Mono, DVec3::new(5.3, -2.1, 1.7), 30.0),
         (ods, DVec3::new(-7.9, 4.4, 1.2), -120.0),
@@ -203,7 +208,7 @@ fn a_raster_tour_frame_is_the_file_render_writes_at_its_pose() {
 #[test]
 fn a_scene_streamed_every_frame_renders_as_the_resident_upload() {
     use omnicloud::render::RendererKind;
-    use omnicloud::tour::Resident;
+    use omnicloud::renderer::Resident;
     let Some(rasterizer) = gpu::rasterizer() else {
         return;
     };
@@ -223,11 +228,7 @@ fn a_scene_streamed_every_frame_renders_as_the_resident_upload() {
         "{}",
         streamed.describe()
     );
-    let ods = Stereo::Ods {
-        ipd: 0.064,
-        merging: PoleMerging::both(PoleMerge::COMFORTABLE),
-        offset: OdsOffset::Exact,
-    };
+    let ods = ods();
     for (stereo, center, yaw) in [
         (Stereo::Mono, DVec3::new(5.3, -2.1, 1.7), 30.0),
         (ods, DVec3::new(-7.9, 4.4, 1.2), -120.0),
@@ -247,4 +248,71 @@ fn a_scene_streamed_every_frame_renders_as_the_resident_upload() {
         assert!(same > 0.999, "{same}");
         assert!(depth < 1e-5, "{depth}");
     }
+}
+
+#[test]
+fn a_resident_placed_at_each_camera_renders_as_the_upload_for_that_camera() {
+    use omnicloud::render::RendererKind;
+    use omnicloud::renderer::{Anchor, Resident, ResidentError};
+    let Some(rasterizer) = gpu::rasterizer() else {
+        return;
+    };
+    let scene = room();
+    let hidden = ProgressBar::hidden();
+    let at = |center: DVec3| RenderSettings {
+        color: ColorMode::Elevation,
+        stereo: ods(),
+        ..RenderSettings::new(256, Camera::new(center, 0.0))
+    };
+    // What serve did with its own upload per camera position.
+    let uploaded_for = |settings: &RenderSettings| {
+        let own = rasterizer.upload(&scene, settings).unwrap();
+        rasterizer
+            .render_uploaded(&own, settings, &hidden)
+            .unwrap()
+            .0
+    };
+    let (first, second) = (
+        at(DVec3::new(6.1, 3.3, 1.7)),
+        at(DVec3::new(-8.2, -5.4, 2.9)),
+    );
+    let mut resident = Resident::anchored(
+        &scene,
+        RendererKind::Raster,
+        &first,
+        Anchor::Camera(first.camera.center),
+    )
+    .unwrap();
+    assert!(
+        resident
+            .describe()
+            .contains(" points resident on the GPU (")
+    );
+    assert_eq!(resident.device(), rasterizer.adapter_name());
+    assert_eq!(
+        resident.max_image_width(),
+        Some(rasterizer.max_image_width())
+    );
+    let got = resident.render(&first, &hidden).unwrap();
+    assert!(got == uploaded_for(&first), "first camera differs");
+    assert!(eyes(&got)[0].coverage_count() > 256 * 128 * 9 / 10);
+    resident.recycle(got);
+
+    resident
+        .place(Anchor::Camera(second.camera.center))
+        .unwrap();
+    assert!(
+        resident.render(&second, &hidden).unwrap() == uploaded_for(&second),
+        "re-placed camera differs"
+    );
+    // Released points render nothing until placed again, at the same camera.
+    resident.release();
+    assert!(matches!(
+        resident.render(&second, &hidden),
+        Err(ResidentError::NotPlaced)
+    ));
+    resident
+        .place(Anchor::Camera(second.camera.center))
+        .unwrap();
+    assert!(resident.render(&second, &hidden).unwrap() == uploaded_for(&second));
 }

@@ -13,7 +13,7 @@ use crate::prepare::{CameraChoice, PrepareOptions, Prepared, prepare_files, subs
 use crate::projection::Image;
 use crate::projection::disparity_image::comfort;
 use crate::render::{RenderSettings, RendererKind};
-use crate::tour::Resident;
+use crate::renderer::Resident;
 use crate::{Rendered, output, raytrace};
 
 use super::progress;

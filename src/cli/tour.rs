@@ -12,8 +12,9 @@ use crate::memory;
 use crate::prepare::LengthScale;
 use crate::projection::Image;
 use crate::render::RendererKind;
+use crate::renderer::Resident;
 use crate::tour::{
-    self, FrameFormat, Resident, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
+    self, FrameFormat, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
 };
 
 use super::options::{DrawArgs, LookArgs, ViewArgs};

@@ -3,14 +3,13 @@
 //! [`path`] reads the keyframes (CSV or GeoJSON), [`spline`] draws the curve through them and
 //! measures its length, [`poses`] places the frames at constant speed with their headings,
 //! [`plan`](plan()) puts it together on a loaded scan, [`shard`] splits the frames across
-//! processes, [`resident`] keeps the scan loaded for every frame, [`run`] renders and writes
-//! the frames, and [`manifest`] records them in `tour.json`.
+//! processes, [`run`] renders and writes the frames (through the scan kept resident by
+//! [`crate::renderer`]), and [`manifest`] records them in `tour.json`.
 
 pub mod ground;
 pub mod manifest;
 pub mod path;
 pub mod poses;
-pub mod resident;
 pub mod run;
 pub mod shard;
 pub mod spline;
@@ -26,7 +25,6 @@ use crate::scene::Scene;
 pub use manifest::{FrameRecord, StereoLayout, TourManifest};
 pub use path::{Keyframe, PathError};
 pub use poses::{Heading, Pose, Sampling};
-pub use resident::{Resident, ResidentError};
 pub use run::{FrameFormat, RunOptions, RunReport, render_frames};
 pub use shard::{Shard, ShardChoice, ShardSource};
 

@@ -10,11 +10,11 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 
 use super::manifest::{FrameRecord, MANIFEST_VERSION, StereoLayout, TourManifest, shell_line};
-use super::resident::{Resident, ResidentError};
 use super::{Tour, TourRequest};
 use crate::output::{self, Layout, OutputError, OutputOptions};
 use crate::projection::Camera;
 use crate::render::{Look, LookError, RenderSettings};
+use crate::renderer::{Resident, ResidentError};
 
 /// The frame files' format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]

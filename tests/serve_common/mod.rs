@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use omnicloud::Scene;
 use omnicloud::raster::RasterError;
+use omnicloud::renderer::ResidentError;
 use omnicloud::web::Running;
 use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError};
 
@@ -37,7 +38,7 @@ pub fn start_live(scene: Scene, width: u32) -> Option<Running> {
     let scan = LiveScan::new(&sample(), scene, options).unwrap();
     match LiveServer::bind("127.0.0.1", 0, scan) {
         Ok(server) => Some(server.spawn()),
-        Err(ServeError::Raster(e @ RasterError::NoAdapter)) => {
+        Err(ServeError::Resident(ResidentError::Raster(e @ RasterError::NoAdapter))) => {
             gpu::require_or_skip(&format!("serve has no adapter: {e}"));
             None
         }

@@ -33,9 +33,9 @@ pub enum ServeError {
     /// An image could not be encoded.
     #[error(transparent)]
     Output(#[from] crate::output::OutputError),
-    /// The rasterizer could not start.
+    /// The renderer could not start or could not hold the scan.
     #[error(transparent)]
-    Raster(#[from] crate::raster::RasterError),
+    Resident(#[from] crate::renderer::ResidentError),
     /// The render thread could not be started.
     #[error("cannot start the render thread: {0}")]
     Thread(std::io::Error),

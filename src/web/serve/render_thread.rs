@@ -1,10 +1,10 @@
-//! The render thread: it owns the GPU rasterizer (created on it, so nothing GPU-side crosses
-//! threads) and the scan's points uploaded for the current camera. HTTP workers hand it
-//! requests through a [`LatestQueue`] and wait for their own answer on a channel.
+//! The render thread: it owns the renderer chosen at run time with the scan resident
+//! ([`Resident`], created on the thread, so nothing GPU-side crosses threads). HTTP workers hand
+//! it requests through a [`LatestQueue`] and wait for their own answer on a channel.
 //!
-//! Points live on the GPU relative to the camera (f32 keeps millimetres near the eye), so a
-//! new camera position re-uploads them; IPD and pole-merge changes render the resident
-//! upload again.
+//! The rasterizer's points live on the GPU relative to the camera (f32 keeps millimetres near
+//! the eye), so a new camera position places them again, keeping the rasterizer; IPD and
+//! pole-merge changes render the resident points again.
 
 use std::panic::AssertUnwindSafe;
 use std::sync::Arc;
@@ -16,8 +16,8 @@ use glam::{DVec2, DVec3};
 use indicatif::ProgressBar;
 
 use crate::projection::{Camera, Image, OdsOffset, Stereo};
-use crate::raster::{Rasterizer, UploadedScene};
-use crate::render::{Imposter, Proxy, RenderSettings};
+use crate::render::{Imposter, Proxy, RenderSettings, RendererKind};
+use crate::renderer::{Anchor, Resident};
 
 use super::ServeError;
 use super::queue::LatestQueue;
@@ -73,12 +73,13 @@ pub struct RenderThread {
 }
 
 impl RenderThread {
-    /// Starts the thread and its rasterizer; returns once the rasterizer is ready. A served
-    /// width beyond [`max_width`](Self::max_width) is not refused here: its renders fail.
+    /// Starts the thread with `kind` and the scan resident for the default camera; returns
+    /// once it is ready. A served width beyond [`max_width`](Self::max_width) is not refused
+    /// here: its renders fail.
     ///
     /// # Errors
-    /// The rasterizer could not start (no adapter, a refused device).
-    pub fn start(scan: Arc<LiveScan>) -> Result<Self, ServeError> {
+    /// The renderer could not start (no adapter, a refused device, a scan it cannot hold).
+    pub fn start(scan: Arc<LiveScan>, kind: RendererKind) -> Result<Self, ServeError> {
         let queue: Arc<LatestQueue<String, Job>> = Arc::new(LatestQueue::new());
         let (ready_tx, ready_rx) = channel();
         let thread = {
@@ -86,21 +87,29 @@ impl RenderThread {
             std::thread::Builder::new()
                 .name("omnicloud-render".into())
                 .spawn(move || {
-                    let rasterizer = match Rasterizer::new() {
+                    let scan: &LiveScan = &scan;
+                    let first = RenderRequest::default_at(&scan.limits);
+                    let camera = DVec3::from_array(scan.info.camera) - scan.scene.origin;
+                    let resident = match Resident::anchored(
+                        &scan.scene,
+                        kind,
+                        &live_settings(scan, camera, &first),
+                        Anchor::Camera(camera),
+                    ) {
                         Ok(r) => r,
                         Err(e) => {
-                            let _ = ready_tx.send(Err(ServeError::Raster(e)));
+                            let _ = ready_tx.send(Err(ServeError::Resident(e)));
                             return;
                         }
                     };
                     let _ = ready_tx.send(Ok((
-                        rasterizer.adapter_name().to_owned(),
-                        rasterizer.max_image_width(),
+                        resident.device().to_owned(),
+                        resident.max_image_width().unwrap_or(u32::MAX),
                     )));
                     let mut renderer = Renderer {
-                        rasterizer,
                         scan,
-                        resident: None,
+                        resident,
+                        asked: Some((first.xy, camera)),
                     };
                     while let Some(job) = queue.take() {
                         let answer = renderer.answer(&job.request);
@@ -124,17 +133,17 @@ impl RenderThread {
             }
             Ok(Err(e)) => Err(e),
             Err(_) => Err(ServeError::Thread(std::io::Error::other(
-                "the render thread stopped while creating the rasterizer",
+                "the render thread stopped while making the scan resident",
             ))),
         }
     }
 
-    /// The GPU adapter's name and backend.
+    /// The device that renders: the GPU adapter's name and backend, or the CPU.
     pub fn adapter(&self) -> &str {
         &self.adapter
     }
 
-    /// Widest panorama (pixels per eye) the adapter can render.
+    /// Widest panorama (pixels per eye) the renderer can render.
     pub fn max_width(&self) -> u32 {
         self.max_width
     }
@@ -163,20 +172,15 @@ impl Drop for RenderThread {
 }
 
 /// What the render thread holds between requests.
-struct Renderer {
-    rasterizer: Rasterizer,
-    scan: Arc<LiveScan>,
-    /// The points uploaded for a camera (local frame) and the XY it was asked for.
-    resident: Option<Resident>,
+struct Renderer<'a> {
+    scan: &'a LiveScan,
+    /// The renderer with the scan resident, placed for the last camera.
+    resident: Resident<'a>,
+    /// The XY last asked for and its camera (local frame), while the resident is placed there.
+    asked: Option<(DVec2, DVec3)>,
 }
 
-struct Resident {
-    xy: DVec2,
-    camera: DVec3,
-    uploaded: UploadedScene,
-}
-
-impl Renderer {
+impl Renderer<'_> {
     /// Renders `request`; a panic in the renderer becomes a failure, and the next request
     /// uploads afresh.
     fn answer(&mut self, request: &RenderRequest) -> Result<LiveFrame, RenderFailure> {
@@ -192,18 +196,19 @@ impl Renderer {
             )),
         };
         if matches!(answer, Err(RenderFailure::Failed(_))) {
-            self.resident = None;
+            self.asked = None;
+            self.resident.release();
         }
         answer
     }
 
     fn render(&mut self, request: &RenderRequest) -> Result<LiveFrame, RenderFailure> {
         let started = Instant::now();
-        let scan = &self.scan;
+        let scan = self.scan;
         let failed = |e: &dyn std::fmt::Display| RenderFailure::Failed(e.to_string());
         // The ground search reads every point: a slider moved at one position reuses it.
-        let camera = match &self.resident {
-            Some(r) if r.xy == request.xy => r.camera,
+        let camera = match self.asked {
+            Some((xy, camera)) if xy == request.xy => camera,
             _ => {
                 let world = scan.camera_at(request.xy).ok_or(RenderFailure::NoGround {
                     x: request.xy.x,
@@ -213,26 +218,17 @@ impl Renderer {
             }
         };
         let settings = live_settings(scan, camera, request);
-        if self.resident.as_ref().is_none_or(|r| r.camera != camera) {
-            // Free the old upload before the new one claims GPU memory.
-            self.resident = None;
-            let uploaded = self
-                .rasterizer
-                .upload(&scan.scene, &settings)
-                .map_err(|e| failed(&e))?;
-            self.resident = Some(Resident {
-                xy: request.xy,
-                camera,
-                uploaded,
-            });
-        }
-        let resident = self.resident.as_ref().expect("uploaded above");
-        let (rendered, _, _) = self
-            .rasterizer
-            .render_uploaded(&resident.uploaded, &settings, &ProgressBar::hidden())
+        self.asked = None;
+        self.resident
+            .place(Anchor::Camera(camera))
+            .map_err(|e| failed(&e))?;
+        self.asked = Some((request.xy, camera));
+        let rendered = self
+            .resident
+            .render(&settings, &ProgressBar::hidden())
             .map_err(|e| failed(&e))?;
         let png = png_bytes(&rendered.top_bottom()).map_err(|e| failed(&e))?;
-        self.rasterizer.recycle(rendered);
+        self.resident.recycle(rendered);
         Ok(LiveFrame {
             png,
             camera: scan.scene.origin + camera,
@@ -259,5 +255,70 @@ pub fn live_settings(scan: &LiveScan, camera: DVec3, request: &RenderRequest) ->
         proxy: Proxy::default(),
         imposter: Imposter::default(),
         depth_map: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use glam::Vec3;
+
+    use super::*;
+    use crate::render::ColorMode;
+    use crate::scene::Scene;
+    use crate::web::serve::scan::LiveOptions;
+
+    /// A 20 m x 20 m floor with a 2 m wall along its north side, prepared around file
+    /// (300, 700, 20).
+    fn courtyard() -> LiveScan {
+        let mut pts = Vec::new();
+        for i in 0..=80 {
+            let x = i as f32 * 0.25 - 10.0;
+            for j in 0..=80 {
+                pts.push(Vec3::new(x, j as f32 * 0.25 - 10.0, -1.7));
+            }
+            for k in 0..=8 {
+                pts.push(Vec3::new(x, 10.0, k as f32 * 0.25 - 1.7));
+            }
+        }
+        let scene = Scene::new(DVec3::new(300.0, 700.0, 20.0), pts, 0.15);
+        let options = LiveOptions {
+            width: 64,
+            color: ColorMode::Elevation,
+            map_size: 40,
+            ..LiveOptions::default()
+        };
+        LiveScan::new(Path::new("courtyard.laz"), scene, options).unwrap()
+    }
+
+    #[test]
+    fn the_ray_tracer_serves_the_frames_it_renders_alone() {
+        let scan = Arc::new(courtyard());
+        let thread = RenderThread::start(scan.clone(), RendererKind::Raytrace).unwrap();
+        assert_eq!(thread.adapter(), "CPU ray tracer");
+        assert_eq!(thread.max_width(), u32::MAX);
+        let at_default = RenderRequest::default_at(&scan.limits);
+        let moved = RenderRequest {
+            xy: DVec2::new(304.0, 697.5),
+            ipd: 0.1,
+            seq: 2,
+            ..at_default.clone()
+        };
+        for request in [at_default, moved] {
+            let served = thread.render(request.clone()).unwrap();
+            let camera = scan.camera_at(request.xy).unwrap();
+            assert_eq!(served.camera, camera);
+            assert_eq!(served.seq, request.seq);
+            let settings = live_settings(&scan, camera - scan.scene.origin, &request);
+            let alone =
+                crate::raytrace::render(&scan.scene, &settings, &ProgressBar::hidden()).unwrap();
+            assert!(alone.frames()[0].coverage_count() > 64 * 32 / 4);
+            assert!(
+                served.png == png_bytes(&alone.top_bottom()).unwrap(),
+                "the frame served at {} differs",
+                request.xy
+            );
+        }
     }
 }

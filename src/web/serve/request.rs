@@ -45,15 +45,21 @@ pub struct CameraLimits {
 }
 
 impl RenderRequest {
-    /// Reads a query string; the message names the field at fault and what it accepts.
-    pub fn parse(query: &str, limits: &CameraLimits) -> Result<Self, String> {
-        let mut request = RenderRequest {
+    /// What an empty query asks for: the default camera with the default IPD and pole
+    /// merging.
+    pub fn default_at(limits: &CameraLimits) -> Self {
+        RenderRequest {
             xy: limits.default,
             ipd: Stereo::DEFAULT_IPD,
             merging: PoleMerging::both(PoleMerge::COMFORTABLE),
             seq: 0,
             client: String::new(),
-        };
+        }
+    }
+
+    /// Reads a query string; the message names the field at fault and what it accepts.
+    pub fn parse(query: &str, limits: &CameraLimits) -> Result<Self, String> {
+        let mut request = Self::default_at(limits);
         for (key, value) in pairs(query, &RENDER_KEYS)? {
             let number = || finite(&value, &key).map_err(|e| format!("{key}={value:?}: {e}"));
             match key.as_str() {

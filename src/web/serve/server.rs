@@ -3,6 +3,7 @@
 use std::net::SocketAddr;
 use std::sync::Arc;
 
+use crate::render::RendererKind;
 use crate::web::server::{Listener, Running, Stopper};
 
 use super::ServeError;
@@ -22,14 +23,29 @@ pub struct LiveServer {
 }
 
 impl LiveServer {
-    /// Listens on `host:port` (port 0: any free port) and starts the render thread.
+    /// Listens on `host:port` (port 0: any free port) and starts the render thread with the
+    /// rasterizer.
     ///
     /// # Errors
     /// The address cannot be bound, or the rasterizer cannot start.
     pub fn bind(host: &str, port: u16, scan: LiveScan) -> Result<Self, ServeError> {
+        Self::bind_renderer(host, port, scan, RendererKind::Raster)
+    }
+
+    /// Listens on `host:port` (port 0: any free port) and starts the render thread with
+    /// `kind`.
+    ///
+    /// # Errors
+    /// The address cannot be bound, or the renderer cannot start.
+    pub fn bind_renderer(
+        host: &str,
+        port: u16,
+        scan: LiveScan,
+        kind: RendererKind,
+    ) -> Result<Self, ServeError> {
         let listener = Listener::bind(host, port)?;
         let scan = Arc::new(scan);
-        let renderer = RenderThread::start(scan.clone())?;
+        let renderer = RenderThread::start(scan.clone(), kind)?;
         Ok(LiveServer {
             listener,
             scan,

@@ -1,0 +1,25 @@
+//! Why a scene could not be kept resident or rendered from there.
+
+use crate::raytrace::RaytraceError;
+
+/// Why a resident scene could not be built or rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum ResidentError {
+    /// The ray tracer failed.
+    #[error(transparent)]
+    Raytrace(#[from] RaytraceError),
+    /// The rasterizer failed (no adapter, or the scan does not fit the GPU).
+    #[cfg(feature = "gpu")]
+    #[error(transparent)]
+    Raster(#[from] crate::raster::RasterError),
+    /// The colour mode needs an attribute the scene lacks.
+    #[error(transparent)]
+    Color(#[from] crate::render::color::MissingAttribute),
+    /// The points were released from the GPU and not placed again.
+    #[cfg(feature = "gpu")]
+    #[error("the scene's points are not on the GPU: place them before rendering")]
+    NotPlaced,
+    /// This build has no rasterizer.
+    #[error("this build has no GPU rasterizer (feature `gpu`); use --renderer raytrace")]
+    NoRasterizer,
+}
