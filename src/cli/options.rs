@@ -116,10 +116,7 @@ impl ViewArgs {
         ViewArgs {
             ipd: scale.length(self.ipd),
             depth_map: self.depth_map.map(|m| m.scaled(scale.length(1.0))),
-            radius: self.radius.map(|r| match r {
-                RadiusChoice::Fixed(m) => RadiusChoice::Fixed(scale.length(f64::from(m)) as f32),
-                other => other,
-            }),
+            radius: self.radius.map(|r| r.scaled(scale.length(1.0))),
             max_distance: self.max_distance.map(|m| scale.length(m)),
             scale: Some(scale.clone()),
             ..self.clone()

@@ -21,7 +21,8 @@ use super::render_args::RenderArgs;
 
 /// Runs `omnicloud render`: lengths converted from `--units` to the first input's unit.
 pub fn run(given: &RenderArgs) -> Result<()> {
-    let scale = given.length_scale()?;
+    let first = crate::io::read_info(&given.file)?;
+    let scale = given.view.length_scale(&first);
     let args = &given.in_file_units(&scale);
     // Check output names before the (long) render, not after it.
     let format = ImageFormat::from_path(&args.output)?;
@@ -94,12 +95,7 @@ pub fn run(given: &RenderArgs) -> Result<()> {
     };
 
     super::interrupt::install_interrupt_handler();
-    super::notes::say_units(
-        &crate::io::read_info(&args.file)?,
-        &scale,
-        &given.given_lengths(),
-        &say,
-    );
+    super::notes::say_units(&first, &scale, &given.given_lengths(), &say);
     if !args.more_files.is_empty() {
         warn_mixed_crs(args, &say)?;
     }

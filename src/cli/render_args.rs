@@ -116,14 +116,6 @@ impl RenderArgs {
         }
     }
 
-    /// The scale from `--units` to the coordinates of the first input.
-    ///
-    /// # Errors
-    /// The first input's header cannot be read.
-    pub fn length_scale(&self) -> anyhow::Result<LengthScale> {
-        Ok(self.view.length_scale(&crate::io::read_info(&self.file)?))
-    }
-
     /// [`ViewArgs::given_lengths`] with `--height` and, for the comfort summary,
     /// `--comfort-near`.
     pub fn given_lengths(&self) -> Vec<(&'static str, f64)> {

@@ -86,10 +86,7 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         camera: crate::prepare::CameraChoice::Auto,
         height,
         up: args.up,
-        radius: args.radius.map(|r| match r {
-            RadiusChoice::Fixed(m) => RadiusChoice::Fixed(scale.length(f64::from(m)) as f32),
-            other => other,
-        }),
+        radius: args.radius.map(|r| r.scaled(scale.length(1.0))),
         ..PrepareOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "loading");

@@ -35,6 +35,17 @@ pub enum RadiusChoice {
     },
 }
 
+impl RadiusChoice {
+    /// The same choice with a fixed radius times `factor` (positive): given in another unit
+    /// of length. `auto` and `adaptive` follow the points and stay as they are.
+    pub fn scaled(self, factor: f64) -> RadiusChoice {
+        match self {
+            RadiusChoice::Fixed(r) => RadiusChoice::Fixed((f64::from(r) * factor) as f32),
+            other => other,
+        }
+    }
+}
+
 /// `M` metres (positive), `auto`, or `adaptive[:K]` (K from 1 to [`MAX_K`]).
 impl FromStr for RadiusChoice {
     type Err = String;
@@ -461,6 +472,18 @@ mod tests {
         assert!((default.radius - 0.25).abs() < 1e-5, "{}", default.radius);
         assert_eq!(default.adaptive, Some(DEFAULT_K));
         assert!(matches!(scene.radii, Radii::PerPoint(_)));
+    }
+
+    #[test]
+    fn a_fixed_radius_scales_and_the_rules_stay() {
+        let feet = 1.0 / 0.3048;
+        assert_eq!(
+            RadiusChoice::Fixed(0.4).scaled(feet),
+            RadiusChoice::Fixed((f64::from(0.4f32) * feet) as f32)
+        );
+        assert_eq!(RadiusChoice::Auto.scaled(feet), RadiusChoice::Auto);
+        let adaptive = RadiusChoice::Adaptive { k: 8 };
+        assert_eq!(adaptive.scaled(feet), adaptive);
     }
 
     #[test]
