@@ -26,13 +26,13 @@ def test_a_counter_thread_advances_during_a_render(sample):
         omnicloud.render(sample, width=512, renderer="raytrace")
         seconds = time.perf_counter() - started
         during = count - before
+        print(f"counted {during} during a {seconds:.2f} s render")
     finally:
         stop.set()
         thread.join()
-    # A pure-Python loop counts millions a second when it holds the GIL; with the GIL held
-    # by the render it would count (almost) nothing.
-    assert seconds > 0.2, seconds
-    assert during > 50_000 * seconds, (during, seconds)
+    # A pure-Python loop counts about a million a second (measured: 3.9 M during a 4.6 s
+    # render on a loaded machine); with the GIL held by the render it counts nothing.
+    assert during > max(1_000, 50_000 * seconds), (during, seconds)
 
 
 def test_two_threads_render_at_once_like_one(sample):
