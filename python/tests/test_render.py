@@ -101,9 +101,12 @@ def test_laspy_data_renders_like_the_file(tmp_path):
     assert (cloud.classification == read.classification).all()
     a = omnicloud.render(cloud, width=64, renderer="raytrace")
     b = omnicloud.render(read, width=64, renderer="raytrace")
+    # The float32 offsets differ (the file's origin is its header's centre, laspy's points'
+    # the centre of their bounds), but not enough to move a pixel at this size (measured).
+    assert a.camera == b.camera
     report = omnicloud.compare(b, a)
-    # Different float32 offsets (another origin) may move a sphere edge by a pixel at most.
-    assert report["eyes"][0]["all"]["mismatch"] <= 2, report["eyes"][0]["all"]
+    assert report["eyes"][0]["all"]["mismatch"] == 0, report["eyes"][0]["all"]
+    assert (a.rgba == b.rgba).all()
 
 
 def test_filters_and_lengths_follow_the_command_line(tmp_path, cli, sample):
