@@ -107,6 +107,27 @@ impl Scene {
         }
     }
 
+    /// `n` points given in world coordinates by `point(i)` (finite), placed as the readers
+    /// place a file without header bounds: the local zero at `origin`, else at the centre of
+    /// the points' bounds, each position its f32 offset from there; one `radius` for all.
+    pub fn from_world(
+        n: usize,
+        point: impl Fn(usize) -> DVec3,
+        origin: Option<DVec3>,
+        radius: f32,
+    ) -> Scene {
+        let origin = origin.unwrap_or_else(|| {
+            let (lo, hi) = (0..n)
+                .map(&point)
+                .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(p), hi.max(p))
+                });
+            if n == 0 { DVec3::ZERO } else { (lo + hi) * 0.5 }
+        });
+        let positions = (0..n).map(|i| (point(i) - origin).as_vec3()).collect();
+        Scene::new(origin, positions, radius)
+    }
+
     /// Number of points.
     pub fn len(&self) -> usize {
         self.positions.len()

@@ -150,19 +150,8 @@ impl ViewArgs {
     /// The stereo mode `--stereo` asks for, per-pole merging and the ODS offset applied;
     /// `None` when it is not given.
     pub fn stereo_mode(&self) -> Option<Stereo> {
-        self.stereo.map(|kind| match kind {
-            StereoKind::Mono => Stereo::Mono,
-            StereoKind::Parallel => Stereo::Parallel { ipd: self.ipd },
-            StereoKind::Cubemap(face) => Stereo::Cubemap {
-                ipd: self.ipd,
-                face,
-            },
-            StereoKind::Ods => Stereo::Ods {
-                ipd: self.ipd,
-                merging: self.merging(),
-                offset: self.ods_offset,
-            },
-        })
+        self.stereo
+            .map(|kind| kind.rig(self.ipd, self.merging(), self.ods_offset))
     }
 
     /// `--depth-map`, checked against `--stereo`.

@@ -47,7 +47,7 @@ pub fn compare<S: Samples>(reference: &S, test: &S) -> Result<CompareReport, Com
 /// [`compare`] of images laid out as `layout` says (its eyes' rows must lie in the images),
 /// naming the inputs `what` in errors. Latitude bands and the seam are measured only in
 /// panoramas.
-pub(crate) fn compare_named<S: Samples>(
+pub fn compare_named<S: Samples>(
     reference: &S,
     test: &S,
     layout: &ImageLayout,

@@ -40,7 +40,7 @@ pub use files::compare_files;
 #[cfg(feature = "charts")]
 pub use heatmap::{LegendLayout, heatmap};
 pub use holes::{HoleStats, holes};
-pub use measure::{Regions, compare, compare_eyes};
+pub use measure::{Regions, compare, compare_eyes, compare_named};
 pub use report::{CompareReport, EyeReport};
 pub use samples::Samples;
 pub use stats::{DepthErrorStats, RegionStats};

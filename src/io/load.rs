@@ -308,11 +308,8 @@ pub fn load_files_with_reader(
     let (origin, positions) = match positions {
         Some(Positions::Local(origin, v)) => (origin, v),
         Some(Positions::World(v)) => {
-            let origin = options.origin.unwrap_or((lo + hi) * 0.5);
-            (
-                origin,
-                v.into_iter().map(|p| (p - origin).as_vec3()).collect(),
-            )
+            let placed = Scene::from_world(v.len(), |i| v[i], options.origin, 0.0);
+            (placed.origin, placed.positions)
         }
         None => unreachable!("points_kept > 0 implies a chunk was read"),
     };

@@ -9,7 +9,7 @@
 //! height still comes from the ground when `--drop-classes 2` hides it.
 
 use std::fmt;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
 use glam::{DVec2, DVec3};
@@ -274,21 +274,39 @@ impl PointFilter {
     /// # Errors
     /// [`FilterError::MissingAttribute`] naming the file and the option.
     pub fn check(&self, info: &FileInfo) -> Result<(), FilterError> {
+        self.check_attributes(
+            &info.path,
+            info.attributes.classification,
+            info.attributes.returns,
+        )
+    }
+
+    /// [`PointFilter::check`] for points named `path` that have a classification and return
+    /// numbers or not.
+    ///
+    /// # Errors
+    /// [`FilterError::MissingAttribute`] naming the first filter that cannot run.
+    pub fn check_attributes(
+        &self,
+        path: &Path,
+        classification: bool,
+        returns: bool,
+    ) -> Result<(), FilterError> {
         let missing = |option, attribute, hint| FilterError::MissingAttribute {
-            path: info.path.clone(),
+            path: path.to_path_buf(),
             option,
             attribute,
             hint,
         };
         let class_hint =
             " (a PLY file gives it as a `classification` or `scalar_Classification` property)";
-        if self.classes.is_some() && !info.attributes.classification {
+        if self.classes.is_some() && !classification {
             return Err(missing("--classes", "a classification", class_hint));
         }
-        if self.drop_classes.is_some() && !info.attributes.classification {
+        if self.drop_classes.is_some() && !classification {
             return Err(missing("--drop-classes", "a classification", class_hint));
         }
-        if self.returns != ReturnFilter::All && !info.attributes.returns {
+        if self.returns != ReturnFilter::All && !returns {
             return Err(missing(
                 "--returns",
                 "return numbers",

@@ -182,6 +182,80 @@ pub fn prepare_files(
         Some(l) if options.camera.given().is_none() => CameraChoice::At(l.camera_world),
         _ => options.camera,
     };
+    let (mut scene, camera_world, filtered) =
+        place_and_filter(scene, camera, options, &paths[0], skipped)?;
+    let radii = match &lod_read {
+        Some(l) => l.apply_radii(&mut scene, options.radius, options.up),
+        None => radius::apply_choice(&mut scene, options.radius),
+    };
+    Ok(Prepared {
+        scene,
+        camera_world,
+        radii,
+        report,
+        filtered,
+        lod: lod_read.map(|l| l.report),
+    })
+}
+
+/// A scene held in memory (points handed over by a caller rather than read from a file),
+/// prepared as [`prepare`] prepares a file's: the same filters, camera placement and radii.
+#[derive(Debug, Clone)]
+pub struct PreparedScene {
+    /// The scene; its local zero is the camera, or [`PrepareOptions::origin`] when given.
+    pub scene: Scene,
+    /// The camera's position in world coordinates.
+    pub camera_world: DVec3,
+    /// How the spheres were sized.
+    pub radii: RadiusRule,
+    /// Points each filter removed.
+    pub filtered: FilterCounts,
+}
+
+/// [`prepare`]'s steps after reading, for a scene already in memory: the filters, the camera
+/// (given or automatic), the local zero moved onto it (or onto [`PrepareOptions::origin`]),
+/// the radius rule. `name` names the scene in errors. [`PrepareOptions::lod`] does not apply
+/// (there is no file to read selectively).
+///
+/// # Errors
+/// [`FilterError::MissingAttribute`] for a filter whose attribute the scene lacks,
+/// [`PrepareError::CameraPlacement`], or a filter that leaves no point.
+pub fn prepare_scene(
+    scene: Scene,
+    options: &PrepareOptions,
+    name: &Path,
+) -> Result<PreparedScene, PrepareError> {
+    let a = &scene.attributes;
+    options
+        .filter
+        .check_attributes(name, a.classification.is_some(), a.returns.is_some())?;
+    let (mut scene, camera_world, filtered) = place_and_filter(
+        scene,
+        options.camera,
+        options,
+        name,
+        FilterCounts::default(),
+    )?;
+    let radii = radius::apply_choice(&mut scene, options.radius);
+    Ok(PreparedScene {
+        scene,
+        camera_world,
+        radii,
+        filtered,
+    })
+}
+
+/// The filters before the camera, the camera placed at `camera`, the local zero moved onto it
+/// (or onto [`PrepareOptions::origin`]), the filters after it: what [`prepare_files`] and
+/// [`prepare_scene`] share. Returns the scene, the camera's world position and the counts,
+/// `skipped` (files left unread) included.
+fn place_and_filter(
+    scene: Scene,
+    camera: CameraChoice,
+    options: &PrepareOptions,
+    name: &Path,
+    skipped: FilterCounts,
+) -> Result<(Scene, DVec3, FilterCounts), PrepareError> {
     let (mut scene, mut filtered) =
         options
             .filter
@@ -198,25 +272,14 @@ pub fn prepare_files(
         None => placement::center_on_camera(&mut scene, camera, options.height),
     };
     let camera_world = placed.ok_or_else(|| PrepareError::CameraPlacement {
-        path: paths[0].clone(),
+        path: name.to_path_buf(),
     })?;
-    let (mut scene, after) = options
+    let (scene, after) = options
         .filter
         .apply(scene, options.up, filter::Stage::AfterCamera);
     filtered += after;
     if scene.is_empty() {
         return Err(FilterError::NothingLeft { counts: filtered }.into());
     }
-    let radii = match &lod_read {
-        Some(l) => l.apply_radii(&mut scene, options.radius, options.up),
-        None => radius::apply_choice(&mut scene, options.radius),
-    };
-    Ok(Prepared {
-        scene,
-        camera_world,
-        radii,
-        report,
-        filtered,
-        lod: lod_read.map(|l| l.report),
-    })
+    Ok((scene, camera_world, filtered))
 }

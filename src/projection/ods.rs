@@ -65,6 +65,20 @@ impl StereoKind {
             _ => 2,
         }
     }
+
+    /// This method's rig: eyes `ipd` apart; `merging` and `offset` apply to ODS only.
+    pub fn rig(self, ipd: f64, merging: PoleMerging, offset: OdsOffset) -> Stereo {
+        match self {
+            StereoKind::Mono => Stereo::Mono,
+            StereoKind::Parallel => Stereo::Parallel { ipd },
+            StereoKind::Cubemap(face) => Stereo::Cubemap { ipd, face },
+            StereoKind::Ods => Stereo::Ods {
+                ipd,
+                merging,
+                offset,
+            },
+        }
+    }
 }
 
 /// `none`, `ods`, `parallel` or `cubemap[:N]` (N in 16..=8192, default 1024).
