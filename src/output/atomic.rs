@@ -40,7 +40,8 @@ pub fn remove_staged_files() -> usize {
         .drain(..)
         .filter(|t| {
             if t.is_dir() {
-                std::fs::remove_dir_all(t).is_ok()
+                // A worker may add a file while the folder is emptied: try again.
+                (0..3).any(|_| std::fs::remove_dir_all(t).is_ok())
             } else {
                 std::fs::remove_file(t).is_ok()
             }
