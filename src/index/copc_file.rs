@@ -387,12 +387,17 @@ mod tests {
         }
         let chunk = compress(&vlr, &records).unwrap();
         assert!(chunk.len() < records.len() / 2, "{}", chunk.len());
+        // A LAZ stream of that one chunk: the chunk table offset, the chunk, the table.
+        let mut stream = ((8 + chunk.len()) as i64).to_le_bytes().to_vec();
+        stream.extend_from_slice(&chunk);
+        let mut table = ChunkTable::with_capacity(1);
+        table.push(ChunkTableEntry {
+            point_count: 1000,
+            byte_count: chunk.len() as u64,
+        });
+        table.write_to(&mut stream, &vlr).unwrap();
         let mut back = vec![0u8; records.len()];
-        let mut d = laz::LasZipDecompressor::new(
-            Cursor::new([(-1i64).to_le_bytes().to_vec(), chunk].concat()),
-            vlr,
-        )
-        .unwrap();
+        let mut d = laz::LasZipDecompressor::new(Cursor::new(stream), vlr).unwrap();
         d.decompress_many(&mut back).unwrap();
         assert_eq!(back, records);
     }
