@@ -44,8 +44,11 @@ fn las_rows(path: &Path) -> Vec<Row> {
     rows
 }
 
+/// One point as the library's readers give it (colour scaled to 8 bits, no GPS time).
+type LibraryRow = (u64, u64, u64, u16, u8, u8, u8, [u8; 3]);
+
 /// Point and attribute rows through the library's readers: `reader` gives the chunks.
-fn library_rows(reader: io::PointReader) -> Vec<(u64, u64, u64, u16, u8, u8, u8, [u8; 3])> {
+fn library_rows(reader: io::PointReader) -> Vec<LibraryRow> {
     let mut rows = Vec::new();
     for chunk in reader.chunks(10_000) {
         let c = chunk.unwrap();
@@ -114,8 +117,9 @@ fn autzen_lion_and_vegetation_come_back_exactly() {
         data_common::laspy("vegetation_1_3.las"),
     ] {
         let dir = tempfile::tempdir().unwrap();
-        let (out, report) = index_into(&[input.clone()], dir.path(), &IndexOptions::default());
-        assert_round_trip(&[input.clone()], &out);
+        let inputs = std::slice::from_ref(&input);
+        let (out, report) = index_into(inputs, dir.path(), &IndexOptions::default());
+        assert_round_trip(inputs, &out);
         // Colour gives format 7, none format 6; the radii are stored.
         let info = io::read_info(&out).unwrap();
         assert!(io::is_copc(&info));
@@ -173,7 +177,7 @@ fn a_small_memory_cap_splits_the_work_and_keeps_every_point() {
         max_memory: 16 << 20,
         ..IndexOptions::default()
     };
-    let (out, report) = index_into(&[input.clone()], dir.path(), &options);
+    let (out, report) = index_into(std::slice::from_ref(&input), dir.path(), &options);
     assert!(report.buckets >= 7, "{} buckets", report.buckets);
     assert!(report.largest_bucket <= 50_000, "{}", report.largest_bucket);
     assert_round_trip(&[input], &out);

@@ -315,7 +315,6 @@ fn write_evlr<W: Write>(
     out.write_all(data)
 }
 
-#[allow(clippy::too_many_arguments)]
 fn write_header<W: Write>(
     out: &mut W,
     layout: Layout,

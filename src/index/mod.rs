@@ -224,9 +224,9 @@ impl Tally {
 
     fn add(&mut self, xyz: [i32; 3], record: &[u8], has_gps: bool) {
         self.points += 1;
-        for a in 0..3 {
-            self.lo[a] = self.lo[a].min(xyz[a]);
-            self.hi[a] = self.hi[a].max(xyz[a]);
+        for ((lo, hi), v) in self.lo.iter_mut().zip(&mut self.hi).zip(xyz) {
+            *lo = (*lo).min(v);
+            *hi = (*hi).max(v);
         }
         let rn = Layout::return_number(record);
         if (1..=15).contains(&rn) {
@@ -307,17 +307,30 @@ fn radius_rule(choice: Option<RadiusChoice>, file_radii: bool) -> RadiusRule {
 /// Nodes above the buckets' level, gathered from every bucket below them.
 type Upper = HashMap<NodeKey, Vec<u8>>;
 
+/// What every bucket is built with.
+#[derive(Debug, Clone, Copy)]
+struct Plan<'a> {
+    layout: Layout,
+    q: Quantizer,
+    cube: Cube,
+    rule: RadiusRule,
+    output: &'a Path,
+}
+
 /// Builds one bucket: its own nodes compressed and written, its share of the nodes above kept.
 fn build_bucket<W: std::io::Write + std::io::Seek>(
     b: &bucket::Bucket,
-    layout: Layout,
-    q: &Quantizer,
-    cube: &Cube,
-    rule: RadiusRule,
+    plan: &Plan,
     writer: &Mutex<CopcWriter<W>>,
     upper: &Mutex<Upper>,
-    output: &Path,
 ) -> Result<(), IndexError> {
+    let Plan {
+        layout,
+        ref q,
+        ref cube,
+        rule,
+        output,
+    } = *plan;
     let mut records = bucket::read(b)?;
     let positions = build::positions(layout, &records, q);
     let nodes = build::sample(cube, &positions);
@@ -461,8 +474,15 @@ pub fn index(
             CopcWriter::new(out, layout, &summary.crs).map_err(|e| write_error(e.to_string()))?;
         let writer = Mutex::new(writer);
         let upper = Mutex::new(Upper::new());
+        let plan = Plan {
+            layout,
+            q,
+            cube,
+            rule,
+            output,
+        };
         buckets.par_iter().try_for_each(|b| {
-            build_bucket(b, layout, &q, &cube, rule, &writer, &upper, output)?;
+            build_bucket(b, &plan, &writer, &upper)?;
             // The bucket's file is no longer needed: free its disk space now.
             let _ = std::fs::remove_file(&b.path);
             progress.inc(b.points);

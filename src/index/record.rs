@@ -130,7 +130,7 @@ impl Quantizer {
     pub fn ints(&self, p: DVec3) -> Option<[i32; 3]> {
         let q = ((p - self.offset) / self.scale).round();
         let fits = |v: f64| v >= f64::from(i32::MIN) && v <= f64::from(i32::MAX);
-        (fits(q.x) && fits(q.y) && fits(q.z)).then(|| [q.x as i32, q.y as i32, q.z as i32])
+        (fits(q.x) && fits(q.y) && fits(q.z)).then_some([q.x as i32, q.y as i32, q.z as i32])
     }
 
     /// The coordinates of integers `xyz`.
