@@ -7,7 +7,9 @@
 //! memory ([`build`]: sampled into nodes from the root down, radii decided) and its nodes
 //! compressed into LAZ chunks ([`copc_file`]), several buckets at once. Nodes above the
 //! buckets' level gather the samples of every bucket below them and are written last.
-//! Memory stays within [`IndexOptions::max_memory`]: the buckets are sized for it.
+//! The buckets and the spill buffers are sized for [`IndexOptions::max_memory`]; the nodes
+//! above the buckets' level stay in memory until the end (a few hundred MB up to about a
+//! billion points of a city; docs/SCALE.md has the calculation).
 //!
 //! The output is staged next to its destination and renamed when complete; the temporary
 //! files live in a working folder there too. Both go on failure and on an interrupt.
