@@ -19,6 +19,7 @@ pub mod compare;
 pub mod font;
 pub mod frame;
 pub mod frames;
+pub mod index;
 pub mod io;
 pub mod memory;
 pub mod output;

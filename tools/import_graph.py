@@ -62,7 +62,7 @@ LAYERS = {
     "cli": 6,
     "bench": 5, "tour": 5, "web": 5, "video": 5, "suite": 5,
     "renderer": 4,
-    "raster": 3, "raytrace": 3, "stream": 3, "memory": 3,
+    "raster": 3, "raytrace": 3, "stream": 3, "memory": 3, "index": 3,
     "compare": 2.5,
     "prepare": 2, "render": 2, "output": 2, "frames": 2,
     "projection": 1, "scene": 1, "io": 1,

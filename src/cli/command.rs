@@ -24,6 +24,9 @@ pub enum Command {
     /// Print a point cloud's header: format, point count, bounds, scale and offset,
     /// coordinate system, attributes (--stats: a pass over the points for histograms).
     Info(super::info::InfoArgs),
+    /// Write scans (LAS, LAZ, PLY, several tiles) once as a COPC file with the sphere radii
+    /// stored, so that renders read only what the view needs.
+    Index(super::index::IndexArgs),
     /// Render a point cloud to an equirectangular panorama or ODS pair.
     Render(RenderArgs),
     /// Compare a test render against a reference render (EXR files with a Z channel).

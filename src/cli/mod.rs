@@ -3,6 +3,7 @@
 mod bench;
 pub mod command;
 mod compare;
+pub mod index;
 pub mod info;
 mod interrupt;
 mod notes;
@@ -35,6 +36,7 @@ pub fn run(matches: &clap::ArgMatches) -> Result<()> {
     let cli = Cli::from_arg_matches(matches)?;
     match cli.command {
         Command::Info(args) => info::run(&args),
+        Command::Index(args) => index::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),

@@ -17,6 +17,40 @@ pub(super) fn say_load_notes(
     }
 }
 
+/// Points above which a render of files read whole suggests indexing them.
+pub(super) const INDEX_HINT_POINTS: u64 = 20_000_000;
+
+/// Says, through `say`, in one line, how to index `paths` when they hold more than
+/// [`INDEX_HINT_POINTS`] points and are not all COPC already.
+pub(super) fn say_index_hint(paths: &[std::path::PathBuf], say: &impl Fn(String)) {
+    if let Some(line) = index_hint(paths, INDEX_HINT_POINTS) {
+        say(line);
+    }
+}
+
+/// The hint of [`say_index_hint`] for files holding more than `above` points.
+fn index_hint(paths: &[std::path::PathBuf], above: u64) -> Option<String> {
+    let infos: Vec<_> = paths
+        .iter()
+        .filter_map(|p| crate::io::read_info(p).ok())
+        .collect();
+    let points: u64 = infos.iter().map(|i| i.point_count).sum();
+    if infos.iter().all(crate::io::is_copc) || points <= above {
+        return None;
+    }
+    let files: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    let stem = paths[0]
+        .file_stem()
+        .map_or_else(|| "scan".into(), |s| s.to_string_lossy().into_owned());
+    Some(format!(
+        "hint: these {:.1} M points are read whole for every render; `omnicloud index {} -o \
+         {stem}.copc.laz` indexes them once, and renders of the index read only what the view \
+         shows, with stored radii (a 10 M-point city on 2 cores: 114 s -> 17 s per 3840 ODS pair)",
+        points as f64 / 1e6,
+        files.join(" ")
+    ))
+}
+
 /// Says, through `say`, the unit the lengths given were taken in ([`units_line`]), when the
 /// file does not count in metres.
 pub(super) fn say_units(
@@ -63,4 +97,25 @@ fn units_line(
     } else {
         format!("note: {note}: {}", lengths.join(", "))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::{Path, PathBuf};
+
+    #[test]
+    fn large_plain_files_get_the_index_command() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let autzen = vec![root.join("data/autzen_trim.laz")];
+        let line = index_hint(&autzen, 100_000).unwrap();
+        assert!(line.contains("0.1 M points"), "{line}");
+        assert!(
+            line.contains("autzen_trim.laz -o autzen_trim.copc.laz`"),
+            "{line}"
+        );
+        assert_eq!(index_hint(&autzen, 110_000), None);
+        let copc: Vec<PathBuf> = vec![root.join("data/courtyard.copc.laz")];
+        assert_eq!(index_hint(&copc, 0), None);
+    }
 }

@@ -96,6 +96,7 @@ pub fn run(given: &RenderArgs) -> Result<()> {
 
     super::interrupt::install_interrupt_handler();
     super::notes::say_units(&first, &scale, &given.given_lengths(), &say);
+    super::notes::say_index_hint(&args.inputs(), &say);
     if !args.more_files.is_empty() {
         warn_mixed_crs(args, &say)?;
     }

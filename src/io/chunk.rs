@@ -110,6 +110,8 @@ pub(crate) struct RawChunk {
     pub(crate) classification: Option<Vec<u8>>,
     pub(crate) returns: Option<Vec<Returns>>,
     pub(crate) radius: Option<Vec<f32>>,
+    /// GPS time (LAS point formats with a time field).
+    pub(crate) gps_time: Option<Vec<f64>>,
 }
 
 impl RawChunk {
@@ -135,6 +137,7 @@ impl RawChunk {
             classification: self.classification.as_mut().map(|v| v.split_off(at)),
             returns: self.returns.as_mut().map(|v| v.split_off(at)),
             radius: self.radius.as_mut().map(|v| v.split_off(at)),
+            gps_time: self.gps_time.as_mut().map(|v| v.split_off(at)),
         }
     }
 
@@ -163,6 +166,7 @@ mod tests {
             classification: None,
             returns: None,
             radius: None,
+            gps_time: None,
         }
     }
 

@@ -10,7 +10,7 @@ use super::info::FileInfo;
 use super::{PointReader, RawChunk, Source};
 use glam::DVec3;
 use las::copc::{Entry, VoxelKey};
-use std::collections::{HashMap, VecDeque};
+use std::collections::{HashMap, HashSet, VecDeque};
 use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
@@ -304,7 +304,24 @@ fn check_entry(path: &Path, entry: &Entry, declared: u64, file_len: u64) -> Resu
 /// # Errors
 /// As [`read_octree`]; a key the hierarchy does not list.
 pub fn open_nodes(path: &Path, keys: &[NodeKey]) -> Result<PointReader, LoadError> {
+    open_nodes_stopping(path, keys, &HashSet::new())
+}
+
+/// [`open_nodes`] for a level-of-detail read that stops refining at the nodes `stopped`: where
+/// the file stores radii (an index made by omnicloud), the points of those nodes get the
+/// radius stored for a view that stops there, the others their full-detail radius.
+///
+/// # Errors
+/// As [`open_nodes`].
+pub fn open_nodes_stopping(
+    path: &Path,
+    keys: &[NodeKey],
+    stopped: &HashSet<NodeKey>,
+) -> Result<PointReader, LoadError> {
+    use super::extra_bytes::{LOD_RADIUS_FIELD, RADIUS_FIELD};
     let (info, reader) = open_reader(path)?;
+    let radius_at = super::las::stored_f32_field(reader.header(), RADIUS_FIELD);
+    let lod_radius_at = super::las::stored_f32_field(reader.header(), LOD_RADIUS_FIELD);
     let octree = octree_of(path, &reader)?;
     let mut entries = Vec::with_capacity(keys.len());
     for key in keys {
@@ -332,6 +349,9 @@ pub fn open_nodes(path: &Path, keys: &[NodeKey]) -> Result<PointReader, LoadErro
             pending: entries.into(),
             read: 0,
             broken: false,
+            radius_at,
+            lod_radius_at,
+            stopped: stopped.iter().map(|k| k.to_las()).collect(),
         })),
     })
 }
@@ -344,6 +364,12 @@ pub(crate) struct CopcSource {
     read: u64,
     /// Set after the decoder panicked: its state is unknown.
     broken: bool,
+    /// Where the stored full-detail radius lies in a record's extra bytes.
+    radius_at: Option<usize>,
+    /// Where the stored radius for a view stopping at the point's node lies.
+    lod_radius_at: Option<usize>,
+    /// Nodes whose points take the stopping radius.
+    stopped: HashSet<VoxelKey>,
 }
 
 impl CopcSource {
@@ -371,7 +397,11 @@ impl CopcSource {
         })
         .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
         self.read += data.len() as u64;
-        Ok(Some(super::las::raw_chunk(&data)))
+        let at = match self.lod_radius_at {
+            Some(at) if self.stopped.contains(&entry.key) => Some(at),
+            _ => self.radius_at,
+        };
+        Ok(Some(super::las::raw_chunk(&data, at)))
     }
 
     pub(crate) fn seek_unsupported(&self, point: u64) -> LoadError {

@@ -27,6 +27,8 @@ pub(crate) struct LasSource {
     read: u64,
     /// Bytes per point record, as the header declares.
     record_len: u64,
+    /// Where the stored full-detail radius lies in a record's extra bytes, when it has one.
+    radius_at: Option<usize>,
     /// Set after the decoder panicked or a seek failed: its state is unknown, so nothing more
     /// is read.
     broken: bool,
@@ -232,7 +234,7 @@ fn file_info(path: &Path, header: &las::Header) -> Result<FileInfo, LoadError> {
             intensity: true,
             classification: true,
             returns: true,
-            radius: false,
+            radius: stored_f32_field(header, super::extra_bytes::RADIUS_FIELD).is_some(),
         },
         color_depth: if format.has_color {
             ColorDepth::Bits16
@@ -318,6 +320,7 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
     let mut info = file_info(path, header)?;
     info.records_in_file = records;
     let buffer = las::PointDataBuilder::new().for_header(header).build();
+    let radius_at = stored_f32_field(header, super::extra_bytes::RADIUS_FIELD);
     Ok((
         info,
         LasSource {
@@ -328,6 +331,7 @@ pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
             read: 0,
             broken: false,
             record_len: record_len.max(1),
+            radius_at,
         },
     ))
 }
@@ -388,12 +392,35 @@ impl LasSource {
             return Ok(None);
         }
         self.read += got;
-        Ok(Some(raw_chunk(&self.buffer)))
+        Ok(Some(raw_chunk(&self.buffer, self.radius_at)))
     }
 }
 
-/// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike).
-pub(super) fn raw_chunk(pd: &las::PointData) -> RawChunk {
+/// Byte offset within a record's extra bytes of the f32 field `name` that the header's Extra
+/// Bytes VLR describes; `None` without one.
+pub(super) fn stored_f32_field(header: &las::Header, name: &str) -> Option<usize> {
+    use super::extra_bytes::{RECORD_ID, USER_ID, f32_field_offset};
+    let at = header
+        .vlrs()
+        .iter()
+        .chain(header.evlrs())
+        .find(|v| v.user_id.trim_end_matches('\0') == USER_ID && v.record_id == RECORD_ID)
+        .and_then(|v| f32_field_offset(&v.data, name))?;
+    let extra = usize::from(header.point_format().extra_bytes);
+    (at + 4 <= extra).then_some(at)
+}
+
+/// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike); `radius_at`
+/// locates a stored f32 radius in the records' extra bytes.
+pub(super) fn raw_chunk(pd: &las::PointData, radius_at: Option<usize>) -> RawChunk {
+    let radius = radius_at.map(|at| {
+        super::extra_bytes::f32_column(
+            pd.raw_bytes(),
+            pd.record_len(),
+            usize::from(pd.format().extra_bytes),
+            at,
+        )
+    });
     RawChunk {
         positions: pd
             .x()
@@ -412,6 +439,7 @@ pub(super) fn raw_chunk(pd: &las::PointData) -> RawChunk {
                 .map(|(number, of)| Returns { number, of })
                 .collect(),
         ),
-        radius: None,
+        radius,
+        gps_time: pd.gps_time().map(Iterator::collect),
     }
 }

@@ -229,6 +229,7 @@ pub fn load_files_with_reader(
                 classification: chunk_classification,
                 returns: chunk_returns,
                 radius: chunk_radius,
+                gps_time: _,
             } = raw;
             points_read += file_positions.len() as u64;
             progress.inc(file_positions.len() as u64);

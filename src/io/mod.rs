@@ -11,6 +11,7 @@
 mod chunk;
 pub mod copc;
 mod error;
+pub mod extra_bytes;
 mod guard;
 mod info;
 mod las;
@@ -21,7 +22,7 @@ mod units;
 mod wkt;
 
 pub use chunk::{ColorScale, PointChunk};
-pub use copc::{NodeKey, Octree, is_copc, open_nodes, read_octree};
+pub use copc::{NodeKey, Octree, is_copc, open_nodes, open_nodes_stopping, read_octree};
 pub use error::LoadError;
 pub use info::{
     AttributesPresent, ColorDepth, Crs, CrsSource, FileInfo, Format, GeoKey, LasHeaderInfo,

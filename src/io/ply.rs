@@ -583,6 +583,7 @@ impl PlySource {
             classification: self.has_classification.then_some(classification),
             returns: self.has_returns.then_some(returns),
             radius: self.has_radius.then_some(radius),
+            gps_time: None,
         }))
     }
 }

@@ -38,7 +38,14 @@ pub fn remove_staged_files() -> usize {
     let mut temps = live_temps();
     let removed = temps
         .drain(..)
-        .filter(|t| std::fs::remove_file(t).is_ok())
+        .filter(|t| {
+            if t.is_dir() {
+                // A worker may add a file while the folder is emptied: try again.
+                (0..3).any(|_| std::fs::remove_dir_all(t).is_ok())
+            } else {
+                std::fs::remove_file(t).is_ok()
+            }
+        })
         .count();
     std::mem::forget(temps);
     removed
@@ -96,6 +103,14 @@ impl StagedFile {
         dest: &Path,
         write: impl FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
     ) -> Result<StagedFile, OutputError> {
+        Self::create_with(dest, write)
+    }
+
+    /// [`StagedFile::create`] for a writer with its own error type.
+    pub fn create_with<E: From<OutputError>>(
+        dest: &Path,
+        write: impl FnOnce(&mut BufWriter<File>) -> Result<(), E>,
+    ) -> Result<StagedFile, E> {
         let temp = create_temp(dest).map_err(|source| OutputError::Io {
             path: dest.to_path_buf(),
             action: "creating temporary file",
@@ -141,6 +156,63 @@ impl StagedFile {
                 source,
             }),
         }
+    }
+}
+
+/// A hidden working folder next to a destination (so its files share the destination's
+/// disk), removed with its contents when dropped and by [`remove_staged_files`] on an
+/// interrupt.
+#[derive(Debug)]
+pub struct ScratchDir {
+    path: PathBuf,
+    /// Forgets the folder in the registry once dropped (after [`Drop::drop`] removed it).
+    _registered: Registered,
+}
+
+impl ScratchDir {
+    /// Creates `.NAME.LABEL.XXXXXX.tmp/` in `dest`'s folder.
+    ///
+    /// # Errors
+    /// [`OutputError::Io`] when the folder cannot be created.
+    pub fn next_to(dest: &Path, label: &str) -> Result<ScratchDir, OutputError> {
+        let dir = match dest.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let name = dest
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "output".to_owned());
+        let made = tempfile::Builder::new()
+            .prefix(&format!(".{name}.{label}."))
+            .suffix(".tmp")
+            .make_in(dir, |path| {
+                live_temps().push(path.to_path_buf());
+                std::fs::create_dir(path).inspect_err(|_| forget_temp(path))
+            })
+            .map_err(|source| OutputError::Io {
+                path: dest.to_path_buf(),
+                action: "creating a working folder next to",
+                source,
+            })?;
+        // Removal is ours (on drop), not tempfile's.
+        let path = made.path().to_path_buf();
+        std::mem::forget(made);
+        Ok(ScratchDir {
+            _registered: Registered(path.clone()),
+            path,
+        })
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+impl Drop for ScratchDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.path);
     }
 }
 

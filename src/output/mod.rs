@@ -28,7 +28,7 @@ pub mod png;
 pub mod xmp;
 
 pub use anaglyph::{AnaglyphMethod, anaglyph, write_anaglyph};
-pub use atomic::{StagedFile, remove_staged_files, write_atomically};
+pub use atomic::{ScratchDir, StagedFile, remove_staged_files, write_atomically};
 pub use description::{ImageDescription, StereoLayout, StoredEyes, read_description};
 pub use error::OutputError;
 pub use exr::{ExrContent, ExrViews, read_exr};

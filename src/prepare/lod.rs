@@ -14,7 +14,7 @@
 //! at full detail keep the cloud's radius, measured (for `auto`) on those points only, so
 //! it matches the full cloud's.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -109,6 +109,17 @@ pub struct Selection {
     pub read: Vec<NodeKey>,
     /// Points in `read`.
     pub points: u64,
+}
+
+impl Selection {
+    /// The selected nodes where refinement stopped above existing children.
+    pub fn stopped(&self) -> HashSet<NodeKey> {
+        self.nodes
+            .iter()
+            .filter(|(_, stopped)| **stopped)
+            .map(|(k, _)| *k)
+            .collect()
+    }
 }
 
 /// Walks `octree` from the root with the camera at `camera` (file coordinates) and keeps
@@ -292,7 +303,7 @@ pub fn read(
             .iter()
             .find(|(q, _, _)| q == p)
             .ok_or_else(|| LoadError::NotFound { path: p.into() })?;
-        io::open_nodes(p, &s.read)
+        io::open_nodes_stopping(p, &s.read, &s.stopped())
     })?;
     let report_lod = LodReport {
         points_read: files.iter().map(|(_, _, s)| s.points).sum(),
@@ -343,16 +354,26 @@ impl LodRead {
         }
     }
 
-    /// Sizes the spheres of the read scene: the radius rule's radius (`auto`, also for
-    /// `adaptive` and no choice, measured on the points at full detail: a selection's
-    /// neighbours are not the file's) for points at full detail, and at least
-    /// [`LOD_RADIUS_FACTOR`] times their level's spacing where refinement stopped.
+    /// Sizes the spheres of the read scene. Without a choice, radii the files store (an
+    /// index made by `omnicloud index`: each point's full-detail radius, or where refinement
+    /// stopped its node's closing radius) are kept as read: no neighbour search. Otherwise the
+    /// radius rule's radius (`auto`, also for `adaptive` and no choice, measured on the points
+    /// at full detail: a selection's neighbours are not the file's) for points at full
+    /// detail, and at least [`LOD_RADIUS_FACTOR`] times their level's spacing where refinement
+    /// stopped.
     pub fn apply_radii(
         &self,
         scene: &mut Scene,
         choice: Option<RadiusChoice>,
         up: Up,
     ) -> RadiusRule {
+        if choice.is_none() && matches!(scene.radii, Radii::PerPoint(_)) {
+            return RadiusRule {
+                radius: LoadOptions::default().default_radius,
+                keep_file_radii: true,
+                adaptive: None,
+            };
+        }
         let spacing: Vec<Option<f64>> = scene
             .positions
             .iter()

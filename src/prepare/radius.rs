@@ -112,6 +112,13 @@ pub const ADAPTIVE_MIN: f32 = 0.25;
 /// sampling thins, the radius grows with it. Radii are clamped to [[`ADAPTIVE_MIN`],
 /// [`ADAPTIVE_MAX`]] times their median.
 pub fn adaptive_radii(positions: &[Vec3], k: usize) -> Option<Vec<f32>> {
+    adaptive_radii_from(positions, 0, k)
+}
+
+/// [`adaptive_radii`] of the points `positions[from..]` among all of `positions`: their
+/// neighbours are searched in the whole set, and the clamp follows their own median. An
+/// index sizes the points of a level this way among the points drawn with them.
+pub fn adaptive_radii_from(positions: &[Vec3], from: usize, k: usize) -> Option<Vec<f32>> {
     let points: Vec<[f32; 3]> = positions
         .iter()
         .map(|p| {
@@ -122,13 +129,13 @@ pub fn adaptive_radii(positions: &[Vec3], k: usize) -> Option<Vec<f32>> {
             }
         })
         .collect();
-    if points.len() < 2 || k == 0 {
+    if points.len() < 2 || k == 0 || from >= points.len() {
         return None;
     }
     let k = k.min(points.len() - 1);
     let tree = kiddo::ImmutableKdTree::<f32, 3>::new_from_slice(&points).ok()?;
     let wanted = std::num::NonZero::new(k + 1).expect("k + 1 > 0");
-    let mut radii: Vec<f32> = points
+    let mut radii: Vec<f32> = points[from..]
         .par_iter()
         .map(|p| {
             let near = tree
