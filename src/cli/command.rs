@@ -42,6 +42,35 @@ pub enum Command {
     Video(super::video::VideoArgs),
 }
 
+impl Command {
+    /// The command with `--scan` applied to its input files (each named `FILE#scan:..`), so
+    /// every reader behind it reads those scans only, and `--camera station:N` turned into
+    /// the station's position and heading (added to `--yaw`).
+    ///
+    /// # Errors
+    /// A station the file does not have, or a file without stations.
+    pub fn resolved(mut self) -> Result<Command, crate::tour::stations::StationError> {
+        match &mut self {
+            Command::Render(a) => {
+                a.file = a.view.scan_path(&a.file);
+                for f in &mut a.more_files {
+                    *f = a.view.scan_path(f);
+                }
+                a.view.resolve_station(&a.file)?;
+            }
+            Command::Tour(a) => a.file = a.view.scan_path(&a.file),
+            Command::Bench(a) => {
+                a.scene = a.scene.as_ref().map(|f| a.view.scan_path(f));
+                if let Some(scene) = &a.scene {
+                    a.view.resolve_station(scene)?;
+                }
+            }
+            _ => {}
+        }
+        Ok(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
