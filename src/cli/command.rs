@@ -7,7 +7,7 @@ use super::bench::BenchArgs;
 use super::compare::CompareArgs;
 use super::render_args::RenderArgs;
 
-/// Render LiDAR scans (LAS, LAZ, PLY) to 360° panoramas and omnidirectional-stereo pairs.
+/// Render LiDAR scans (LAS, LAZ, PLY, E57) to 360° panoramas and omnidirectional-stereo pairs.
 #[derive(Debug, Parser)]
 #[command(name = "omnicloud", version, about)]
 pub struct Cli {

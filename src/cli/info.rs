@@ -18,7 +18,7 @@ use super::progress;
 /// Options of `omnicloud info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// LAS, LAZ or PLY files.
+    /// LAS, LAZ, PLY or E57 files (FILE.e57#scan:N,.. for some scans).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Also read every point: class, return-number and returns-per-pulse histograms,

@@ -15,7 +15,7 @@ use super::parse;
 /// Options of `omnicloud render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// A LAS, LAZ or PLY file.
+    /// A LAS, LAZ, PLY or E57 file.
     pub file: PathBuf,
     /// More files rendered with the first as one scene (tiles of one survey, same
     /// coordinate system).

@@ -30,7 +30,7 @@ use super::render_args::RenderArgs;
     mut_arg("camera", |a| a.hide(true)),
 )]
 pub struct TourArgs {
-    /// A LAS, LAZ or PLY file.
+    /// A LAS, LAZ, PLY or E57 file.
     pub file: PathBuf,
     /// The camera path: CSV with a header (x,y[,z][,yaw,pitch,roll]) or a GeoJSON
     /// LineString/MultiLineString, in the scan's coordinates.
