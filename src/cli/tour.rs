@@ -554,6 +554,7 @@ mod render_command_tests {
         ("depth_map", &["0.5=1.5,4=6.25", "1=2"]),
         ("radius", &["0.25", "auto", "adaptive:6"]),
         ("up", &["z", "y"]),
+        ("scan", &["0", "1,Hall"]),
         ("classes", &["2,6", "2"]),
         ("drop_classes", &["7,18"]),
         ("returns", &["all", "first", "last"]),
