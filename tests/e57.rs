@@ -30,6 +30,63 @@ fn omnicloud(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// The spherical image's pixel that scan 1's grid cell (row, column) falls in: the image
+/// shares the scan's pose, columns run with azimuth from the middle, rows down from the top.
+fn pano_pixel(row: usize, column: usize) -> [u8; 3] {
+    let (_, a, e) = scan1_spherical(row, column);
+    let x = (PANO_W as f64 / 2.0 + a / (2.0 * std::f64::consts::PI / PANO_W as f64)).floor();
+    let y = (PANO_H as f64 / 2.0 - e / (std::f64::consts::PI / PANO_H as f64)).floor();
+    pano_color(x as u32, y as u32)
+}
+
+#[test]
+fn colour_comes_from_each_stations_photos() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = site(dir.path());
+    // Scan 1 stores no colour: its photo colours it by default, and the pattern comes back.
+    let (_, rgb, _) = stream(&path);
+    let n0 = scan0_points().len();
+    for row in 0..ROWS {
+        for column in 0..COLUMNS {
+            let got = rgb[n0 + row * COLUMNS + column];
+            assert_eq!(got, pano_pixel(row, column), "{row},{column}");
+        }
+    }
+    // Scan 0's stored colours stay, unless its photo is asked for: the pinhole camera looks
+    // along the scan's +X, its left half (red) above the scanner, right half (blue) below.
+    let stored: Vec<[u8; 3]> = scan0_points().iter().map(|p| p.1).collect();
+    assert_eq!(rgb[..n0], stored[..]);
+    let forced = PathBuf::from(format!("{}#scan:0#color:image", path.display()));
+    let (_, rgb, intensity) = stream(&forced);
+    let (mut red, mut blue, mut grey) = (0, 0, 0);
+    for (((p, _), c), i) in scan0_points().iter().zip(&rgb).zip(&intensity) {
+        // The photo spans ±45° across (the scan's z) and ±36.9° down (its y) at 4 m.
+        let seen = p.x == 4.0 && p.y.abs() < 2.9 && p.z.abs() < 3.9 && p.z.abs() > 0.05;
+        if seen && p.z > 0.0 {
+            assert_eq!(*c, PHOTO_LEFT, "{p}");
+            red += 1;
+        } else if seen {
+            assert_eq!(*c, PHOTO_RIGHT, "{p}");
+            blue += 1;
+        } else if p.x <= 0.0 {
+            // Behind the photo's camera: intensity as grey. (A photo has no depth: points in
+            // front of the wall, on the floor, take the wall's colour where it would show.)
+            let g = (f64::from(*i) / 65535.0 * 255.0).round() as u8;
+            assert_eq!(*c, [g; 3], "{p}");
+            grey += 1;
+        }
+    }
+    assert!(
+        red > 200 && blue > 100 && grey > 1500,
+        "{red} {blue} {grey}"
+    );
+    let info = io::read_info(&path).unwrap();
+    assert_eq!(info.color_depth, io::ColorDepth::FromImages);
+    let bunny = format!("{}#color:image", data("bunnyFloat.e57").display());
+    let err = io::open(Path::new(&bunny)).unwrap_err().to_string();
+    assert!(err.contains("no scan read has an image"), "{err}");
+}
+
 /// Every point of `path` as the chunk stream gives it.
 fn stream(path: &Path) -> (Vec<DVec3>, Vec<[u8; 3]>, Vec<u16>) {
     let mut out = (Vec::new(), Vec::new(), Vec::new());

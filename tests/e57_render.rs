@@ -183,3 +183,52 @@ fn station_all_writes_a_resumable_tour_folder() {
     );
     assert!(decoded(&single) == decoded(&std::fs::read(out.join("frame_000001.png")).unwrap()));
 }
+
+#[test]
+fn color_image_renders_the_photos_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let site = dir.path().join("site.e57");
+    write_site(&site);
+    let common = [
+        "--scan",
+        "0",
+        "--camera",
+        "10,20,1.5",
+        "--renderer",
+        "raytrace",
+    ];
+    let with = |extra: &[&'static str]| -> Vec<&'static str> {
+        let mut v = common.to_vec();
+        v.extend(extra);
+        v
+    };
+    let image = render(
+        &site,
+        &dir.path().join("image.png"),
+        &with(&["--color", "image"]),
+    );
+    let stored = render(
+        &site,
+        &dir.path().join("rgb.png"),
+        &with(&["--color", "rgb"]),
+    );
+    let picked = PathBuf::from(format!("{}#color:image", site.display()));
+    let named = render(
+        &picked,
+        &dir.path().join("named.png"),
+        &with(&["--color", "rgb"]),
+    );
+    assert!(
+        decoded(&image) == decoded(&named),
+        "--color image reads FILE#color:image"
+    );
+    assert!(decoded(&image) != decoded(&stored));
+    // Heading 0 looks along world +Y, which the scan's quarter turn makes its +X: at the
+    // photo, red above the horizon, blue below.
+    let img = decoded(&image);
+    let (w, h) = img.dimensions();
+    let above = img.get_pixel(w / 2, h / 2 - 8);
+    let below = img.get_pixel(w / 2, h / 2 + 8);
+    assert_eq!((above[0], above[2]), (255, 0), "{above:?}");
+    assert_eq!((below[0], below[2]), (0, 255), "{below:?}");
+}

@@ -44,7 +44,8 @@ pub enum Command {
 
 impl Command {
     /// The command with `--scan` applied to its input files (each named `FILE#scan:..`), so
-    /// every reader behind it reads those scans only, and `--camera station:N` turned into
+    /// every reader behind it reads those scans only (with `--color image`, coloured from
+    /// their images: `FILE#color:image`), and `--camera station:N` turned into
     /// the station's position and heading (added to `--yaw`).
     ///
     /// # Errors
@@ -52,13 +53,13 @@ impl Command {
     pub fn resolved(mut self) -> Result<Command, crate::tour::stations::StationError> {
         match &mut self {
             Command::Render(a) => {
-                a.file = a.view.scan_path(&a.file);
+                a.file = a.draw.colour_path(&a.view.scan_path(&a.file));
                 for f in &mut a.more_files {
-                    *f = a.view.scan_path(f);
+                    *f = a.draw.colour_path(&a.view.scan_path(f));
                 }
                 a.view.resolve_station(&a.file)?;
             }
-            Command::Tour(a) => a.file = a.view.scan_path(&a.file),
+            Command::Tour(a) => a.file = a.draw.colour_path(&a.view.scan_path(&a.file)),
             Command::Bench(a) => {
                 a.scene = a.scene.as_ref().map(|f| a.view.scan_path(f));
                 if let Some(scene) = &a.scene {

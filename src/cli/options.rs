@@ -261,7 +261,8 @@ pub struct DrawArgs {
     /// Image width per eye; the height is half of it.
     #[arg(long, default_value = "3840", value_parser = parse::width)]
     pub width: u32,
-    /// Point colour (auto: rgb when present, else elevation).
+    /// Point colour (auto: rgb when present, else elevation; an E57 scan without colour but
+    /// with photos takes them; image: from the E57 scanner's photos).
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub color: ColorMode,
     /// Shading.
@@ -279,6 +280,15 @@ pub struct DrawArgs {
 }
 
 impl DrawArgs {
+    /// `file` read with its points coloured from its images (`FILE#color:image`) under
+    /// `--color image`; as it is otherwise.
+    pub fn colour_path(&self, file: &std::path::Path) -> std::path::PathBuf {
+        match self.color {
+            ColorMode::Image => crate::io::e57::select::with_image_colour(file),
+            _ => file.to_path_buf(),
+        }
+    }
+
     /// Width the renderer draws per eye under `look`: `--width` times `--supersample`.
     pub fn render_width(&self, look: &LookArgs) -> u32 {
         self.width.saturating_mul(look.supersample.max(1))

@@ -48,6 +48,8 @@ pub enum ColorDepth {
     Float,
     /// Scaled to 0–1 by the limits the file states (E57), then to 8 bits.
     Normalised,
+    /// Taken from the scanner's images of each point's station (E57).
+    FromImages,
 }
 
 /// Which per-point attributes the file carries.
@@ -296,6 +298,7 @@ impl fmt::Display for ColorDepth {
             ColorDepth::Bits16 => "16-bit fields (scaled to 8 bits as the values need)",
             ColorDepth::Float => "floating point (0-1)",
             ColorDepth::Normalised => "scaled by the file's colour limits to 8 bits",
+            ColorDepth::FromImages => "from the scanner's images of each station",
         })
     }
 }
@@ -441,6 +444,7 @@ impl FileInfo {
                 ColorDepth::Bits16 => "16-bit",
                 ColorDepth::Float => "float",
                 ColorDepth::Normalised => "normalised",
+                ColorDepth::FromImages => "images",
             },
             "system_identifier": las.map(|l| &l.system_identifier),
             "generating_software": las.map(|l| &l.generating_software),

@@ -99,13 +99,15 @@ enum Kind {
 /// Detects the format from the first bytes, falling back to the extension to word the error.
 fn detect(path: &Path) -> Result<Kind, LoadError> {
     // An E57 path may pick scans or an image after '#'; the file is the part before.
-    if let Ok((file, Some(_))) = e57::select::split(path) {
+    if let Ok((file, parts)) = e57::select::split(path)
+        && parts != e57::select::Parts::default()
+    {
         return match detect_file(&file, path)? {
             Kind::E57 => Ok(Kind::E57),
             _ => Err(LoadError::CorruptHeader {
                 path: path.to_path_buf(),
                 format: "E57",
-                detail: "only E57 files have scans to pick ('#scan:')".into(),
+                detail: "only E57 files have parts to pick ('#scan:', '#image:', '#color:')".into(),
             }),
         };
     }

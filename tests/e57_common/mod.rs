@@ -1,6 +1,7 @@
 //! A generated terrestrial survey as E57: two scans with different poses (one Cartesian with
-//! colour, one spherical on a row/column grid), a spherical image of the second scan's
-//! station and a pinhole image of the first's. Written with the `e57` crate's writer.
+//! colour, one spherical on a row/column grid without colour), a spherical image of the
+//! second scan's station and a pinhole image of the first's, looking along its +X. Written
+//! with the `e57` crate's writer.
 #![allow(dead_code)]
 
 use e57::{
@@ -95,14 +96,27 @@ pub fn scan0_points() -> Vec<(DVec3, [u8; 3])> {
     out
 }
 
+/// The pinhole photo's pose: scan 0's turned a quarter about its Y axis, so the camera's +Z
+/// (its line of sight) is the scan's +X and the camera's +X (image columns) the scan's -Z.
+pub fn photo0_q() -> [f64; 4] {
+    let [w, x, y, z] = POSE0_Q;
+    let q = glam::DQuat::from_xyzw(x, y, z, w) * glam::DQuat::from_rotation_y(PI / 2.0);
+    [q.w, q.x, q.y, q.z]
+}
+
+/// The pinhole photo: red on its left half, blue on its right half.
+pub const PHOTO_LEFT: [u8; 3] = [255, 0, 0];
+pub const PHOTO_RIGHT: [u8; 3] = [0, 0, 255];
+
 /// Scan 1's grid: rows from the top down, columns with azimuth.
 pub const ROWS: usize = 18;
 pub const COLUMNS: usize = 36;
 
-/// Scan 1's point at grid cell (row, column): range, azimuth, elevation.
+/// Scan 1's point at grid cell (row, column): range, azimuth, elevation (off the spherical
+/// image's pixel edges, so each falls clearly in one pixel).
 pub fn scan1_spherical(row: usize, column: usize) -> (f64, f64, f64) {
-    let azimuth = -PI + (column as f64 + 0.5) * 2.0 * PI / COLUMNS as f64;
-    let elevation = PI / 2.0 - (row as f64 + 0.5) * PI / ROWS as f64;
+    let azimuth = -PI + (column as f64 + 0.3) * 2.0 * PI / COLUMNS as f64;
+    let elevation = PI / 2.0 - (row as f64 + 0.3) * PI / ROWS as f64;
     let range = 3.0 + 0.5 * (column % 4) as f64 + 0.1 * row as f64;
     (range, azimuth, elevation)
 }
@@ -207,9 +221,6 @@ pub fn write_site(path: &Path) {
                     max: COLUMNS as i64 - 1,
                 },
             ),
-            record(RecordName::ColorRed, RecordDataType::U8),
-            record(RecordName::ColorGreen, RecordDataType::U8),
-            record(RecordName::ColorBlue, RecordDataType::U8),
             record(
                 RecordName::Intensity,
                 RecordDataType::Integer { min: 0, max: 4095 },
@@ -231,9 +242,6 @@ pub fn write_site(path: &Path) {
                     RecordValue::Double(e),
                     RecordValue::Integer(row as i64),
                     RecordValue::Integer(column as i64),
-                    RecordValue::Integer(200),
-                    RecordValue::Integer(100),
-                    RecordValue::Integer(50),
                     RecordValue::Integer(4095),
                 ])
                 .unwrap();
@@ -262,15 +270,11 @@ pub fn write_site(path: &Path) {
         img.finalize().unwrap();
     }
     {
-        let bytes = png(
-            40,
-            30,
-            |x, _| if x < 20 { [255, 0, 0] } else { [0, 0, 255] },
-        );
+        let bytes = png(40, 30, |x, _| if x < 20 { PHOTO_LEFT } else { PHOTO_RIGHT });
         let mut img = w.add_image("{photo-0}").unwrap();
         img.set_name("North photo");
         img.set_pointcloud_guid("{scan-0}");
-        img.set_transform(transform(POSE0_Q, POSE0_T));
+        img.set_transform(transform(photo0_q(), POSE0_T));
         img.add_pinhole(
             ImageFormat::Png,
             &mut bytes.as_slice(),

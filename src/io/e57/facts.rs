@@ -44,6 +44,8 @@ pub struct ScanInfo {
     pub bounds: Option<(DVec3, DVec3)>,
     /// Scanner make and model, when stated.
     pub sensor: Option<String>,
+    /// Indices of the projected images (spherical, pinhole, cylindrical) taken with it.
+    pub images: Vec<usize>,
 }
 
 /// How an image maps directions to pixels.
@@ -105,12 +107,39 @@ pub struct E57Info {
     pub selected: Vec<usize>,
     /// Every image of the file.
     pub images: Vec<ImageInfo>,
+    /// Every point coloured from its station's images (`#color:image`), stored colour or not.
+    pub color_from_images: bool,
+}
+
+/// Where a scan's point colours come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColourFrom {
+    /// The colour the scan stores.
+    Stored,
+    /// The images of its station (grey intensity where none sees the point).
+    Images,
+    /// Nowhere: the scan has neither.
+    Nothing,
 }
 
 impl E57Info {
     /// The scans read, in order.
     pub fn selected_scans(&self) -> impl Iterator<Item = &ScanInfo> {
         self.selected.iter().map(|&i| &self.scans[i])
+    }
+
+    /// Where `scan`'s colours come from: the images when asked (`#color:image`) or when it
+    /// stores none, else its stored colour.
+    pub fn colour_from(&self, scan: &ScanInfo) -> ColourFrom {
+        if (self.color_from_images || !scan.has_color) && !scan.images.is_empty() {
+            ColourFrom::Images
+        } else if self.color_from_images {
+            ColourFrom::Nothing
+        } else if scan.has_color {
+            ColourFrom::Stored
+        } else {
+            ColourFrom::Nothing
+        }
     }
 
     /// Facts as JSON (the `e57` object of `info --json`).
@@ -127,6 +156,7 @@ impl E57Info {
             "guid": self.guid,
             "writer": self.writer,
             "selected_scans": self.selected,
+            "color_from_images": self.color_from_images,
             "scans": self.scans.iter().map(|s| json!({
                 "index": s.index,
                 "name": s.name,
@@ -142,6 +172,7 @@ impl E57Info {
                 "grid": s.grid.map(|(r, c)| json!({"rows": r, "columns": c})),
                 "bounds": s.bounds.map(|(lo, hi)| json!({"min": xyz(lo), "max": xyz(hi)})),
                 "sensor": s.sensor,
+                "images": s.images,
             })).collect::<Vec<_>>(),
             "images": self.images.iter().map(|i| json!({
                 "index": i.index,

@@ -5,13 +5,14 @@
 //! those scans only, in the order given.
 
 mod facts;
+pub mod photo;
 pub mod pose;
 pub mod select;
 mod source;
 
-pub use facts::{Coordinates, E57Info, ImageInfo, ImageKind, ScanInfo};
+pub use facts::{ColourFrom, Coordinates, E57Info, ImageInfo, ImageKind, ScanInfo};
 pub use pose::Pose;
-pub use select::{Part, ScanPick, ScanSelection};
+pub use select::{Parts, ScanPick, ScanSelection};
 
 pub(crate) use source::E57Source;
 
@@ -63,23 +64,29 @@ fn open_reader(
 /// The scans' and images' facts.
 fn facts<T: Read + Seek>(reader: &e57::E57Reader<T>) -> E57Info {
     let clouds = reader.pointclouds();
-    let scans: Vec<ScanInfo> = clouds
+    let mut scans: Vec<ScanInfo> = clouds
         .iter()
         .enumerate()
         .map(|(index, pc)| scan_info(index, pc))
         .collect();
-    let images = reader
+    let images: Vec<ImageInfo> = reader
         .images()
         .iter()
         .enumerate()
         .map(|(index, img)| image_info(index, img, &scans))
         .collect();
+    for image in &images {
+        if let (Some(s), true) = (image.scan, image.kind != ImageKind::VisualReference) {
+            scans[s].images.push(image.index);
+        }
+    }
     E57Info {
         guid: reader.guid().to_string(),
         writer: reader.library_version().map(str::to_string),
         selected: (0..scans.len()).collect(),
         scans,
         images,
+        color_from_images: false,
     }
 }
 
@@ -136,6 +143,7 @@ fn scan_info(index: usize, pc: &e57::PointCloud) -> ScanInfo {
         grid,
         bounds,
         sensor: (!sensor.is_empty()).then_some(sensor),
+        images: Vec::new(),
     }
 }
 
@@ -228,10 +236,11 @@ fn image_info(index: usize, img: &e57::Image, scans: &[ScanInfo]) -> ImageInfo {
 fn read_facts(
     path: &Path,
 ) -> Result<(PathBuf, e57::E57Reader<BufReader<std::fs::File>>, E57Info), LoadError> {
-    let (file, part) = select::split(path).map_err(|e| corrupt(path, e))?;
+    let (file, parts) = select::split(path).map_err(|e| corrupt(path, e))?;
     let reader = open_reader(path, &file)?;
     let mut info = facts(&reader);
-    if let Some(Part::Scans(selection)) = part {
+    info.color_from_images = parts.color_from_images;
+    if let Some(selection) = parts.scans {
         let names: Vec<Option<String>> = info.scans.iter().map(|s| s.name.clone()).collect();
         info.selected = selection
             .resolve(&names)
@@ -239,6 +248,12 @@ fn read_facts(
                 path: file.clone(),
                 detail: e,
             })?;
+    }
+    if info.color_from_images && info.selected_scans().all(|s| s.images.is_empty()) {
+        return Err(LoadError::NoSuchScan {
+            path: path.to_path_buf(),
+            detail: "no scan read has an image to colour its points from (--color image)".into(),
+        });
     }
     Ok((file, reader, info))
 }
@@ -258,7 +273,10 @@ pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
 
 fn file_info<T: Read + Seek>(path: &Path, reader: &e57::E57Reader<T>, info: E57Info) -> FileInfo {
     let picked: Vec<&ScanInfo> = info.selected_scans().collect();
-    let rgb = !picked.is_empty() && picked.iter().all(|s| s.has_color);
+    let sources: Vec<ColourFrom> = picked.iter().map(|s| info.colour_from(s)).collect();
+    let rgb = !picked.is_empty()
+        && (info.color_from_images || sources.iter().all(|s| *s != ColourFrom::Nothing));
+    let from_images = rgb && sources.contains(&ColourFrom::Images);
     let intensity = !picked.is_empty() && picked.iter().all(|s| s.has_intensity);
     let bounds = picked
         .iter()
@@ -278,7 +296,9 @@ fn file_info<T: Read + Seek>(path: &Path, reader: &e57::E57Reader<T>, info: E57I
             intensity,
             ..AttributesPresent::default()
         },
-        color_depth: if rgb {
+        color_depth: if from_images {
+            ColorDepth::FromImages
+        } else if rgb {
             ColorDepth::Normalised
         } else {
             ColorDepth::None

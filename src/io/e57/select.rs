@@ -1,6 +1,7 @@
 //! Picking parts of an E57 file: scans by index or name (`--scan 0,Hall`), written after the
-//! file name as `site.e57#scan:0,Hall` so every reader that takes a path honours it, and one
-//! image as `site.e57#image:N`.
+//! file name as `site.e57#scan:0,Hall` so every reader that takes a path honours it; one
+//! image as `site.e57#image:N`; points coloured from the scanner's images as
+//! `site.e57#color:image`.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -84,58 +85,83 @@ impl ScanSelection {
     }
 }
 
-/// What follows `#` after an E57 file's name.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Part {
+/// What follows `#` after an E57 file's name: `#scan:0,Hall`, `#image:N`, `#color:image`,
+/// in any order.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Parts {
     /// `#scan:SELECTION`: these scans only.
-    Scans(ScanSelection),
+    pub scans: Option<ScanSelection>,
     /// `#image:N`: the file's image N (from 0).
-    Image(usize),
+    pub image: Option<usize>,
+    /// `#color:image`: every point coloured from its station's images, stored colour or not.
+    pub color_from_images: bool,
 }
 
-const SCAN_TAG: &str = "#scan:";
-const IMAGE_TAG: &str = "#image:";
+const TAGS: [&str; 3] = ["#scan:", "#image:", "#color:"];
 
-/// Splits `site.e57#scan:0,2` into the file and the part asked for. A path that exists as
-/// it is, or has no such suffix, is returned whole.
+/// Splits `site.e57#scan:0,2` into the file and the parts asked for. A path that exists as
+/// it is, or has no such suffix, is returned whole with no part.
 ///
 /// # Errors
-/// A message when the suffix is there but does not parse.
-pub fn split(path: &Path) -> Result<(PathBuf, Option<Part>), String> {
+/// A message when a suffix is there but does not parse.
+pub fn split(path: &Path) -> Result<(PathBuf, Parts), String> {
     let text = path.to_string_lossy();
-    let found = [SCAN_TAG, IMAGE_TAG]
-        .iter()
-        .filter_map(|tag| text.rfind(tag).map(|at| (at, *tag)))
-        .max();
-    let Some((at, tag)) = found else {
-        return Ok((path.to_path_buf(), None));
+    let Some(at) = TAGS.iter().filter_map(|tag| text.find(tag)).min() else {
+        return Ok((path.to_path_buf(), Parts::default()));
     };
     if path.exists() {
-        return Ok((path.to_path_buf(), None));
+        return Ok((path.to_path_buf(), Parts::default()));
     }
-    let file = PathBuf::from(&text[..at]);
-    let rest = &text[at + tag.len()..];
-    let part = if tag == SCAN_TAG {
-        Part::Scans(rest.parse()?)
-    } else {
-        Part::Image(
-            rest.parse()
-                .map_err(|_| format!("'{rest}' is not an image number"))?,
-        )
-    };
-    Ok((file, Some(part)))
+    let mut parts = Parts::default();
+    for segment in text[at + 1..].split('#') {
+        let (tag, value) = segment.split_once(':').unwrap_or((segment, ""));
+        match tag {
+            "scan" => parts.scans = Some(value.parse()?),
+            "image" => {
+                parts.image = Some(
+                    value
+                        .parse()
+                        .map_err(|_| format!("'{value}' is not an image number"))?,
+                );
+            }
+            "color" if value == "image" => parts.color_from_images = true,
+            _ => {
+                return Err(format!(
+                    "'#{segment}': expected #scan:.., #image:N or #color:image"
+                ));
+            }
+        }
+    }
+    Ok((PathBuf::from(&text[..at]), parts))
 }
 
-/// `file` with these scans picked: `site.e57#scan:0,2`. A pick already on the path is
-/// replaced.
-pub fn with_scans(file: &Path, selection: &ScanSelection) -> PathBuf {
-    let base = match split(file) {
-        Ok((base, Some(Part::Scans(_)))) => base,
-        _ => file.to_path_buf(),
-    };
-    let mut text = base.into_os_string();
-    text.push(format!("{SCAN_TAG}{selection}"));
+/// The path naming `file` with `parts`.
+pub fn join(file: &Path, parts: &Parts) -> PathBuf {
+    let mut text = file.as_os_str().to_os_string();
+    if let Some(s) = &parts.scans {
+        text.push(format!("#scan:{s}"));
+    }
+    if let Some(i) = parts.image {
+        text.push(format!("#image:{i}"));
+    }
+    if parts.color_from_images {
+        text.push("#color:image");
+    }
     PathBuf::from(text)
+}
+
+/// `file` (which may name parts already) with these scans picked instead.
+pub fn with_scans(file: &Path, selection: &ScanSelection) -> PathBuf {
+    let (base, mut parts) = split(file).unwrap_or_else(|_| (file.to_path_buf(), Parts::default()));
+    parts.scans = Some(selection.clone());
+    join(&base, &parts)
+}
+
+/// `file` (which may name parts already) with its points coloured from its images.
+pub fn with_image_colour(file: &Path) -> PathBuf {
+    let (base, mut parts) = split(file).unwrap_or_else(|_| (file.to_path_buf(), Parts::default()));
+    parts.color_from_images = true;
+    join(&base, &parts)
 }
 
 #[cfg(test)]
@@ -167,25 +193,32 @@ mod tests {
 
     #[test]
     fn suffixes_split_and_join() {
-        let (file, part) = split(Path::new("/nowhere/site.e57#scan:0,Hall")).unwrap();
+        let (file, parts) = split(Path::new("/nowhere/site.e57#scan:0,Hall")).unwrap();
         assert_eq!(file, Path::new("/nowhere/site.e57"));
         assert_eq!(
-            part,
-            Some(Part::Scans(ScanSelection(vec![
+            parts.scans,
+            Some(ScanSelection(vec![
                 ScanPick::Index(0),
                 ScanPick::Name("Hall".into())
-            ])))
+            ]))
         );
-        let (file, part) = split(Path::new("/nowhere/site.e57#image:3")).unwrap();
+        let (file, parts) = split(Path::new("/nowhere/site.e57#image:3")).unwrap();
         assert_eq!(
-            (file.to_str(), part),
-            (Some("/nowhere/site.e57"), Some(Part::Image(3)))
+            (file.to_str(), parts.image),
+            (Some("/nowhere/site.e57"), Some(3))
         );
         assert!(split(Path::new("/nowhere/site.e57#image:x")).is_err());
-        let (file, part) = split(Path::new("/nowhere/plain.las")).unwrap();
-        assert_eq!((file.to_str(), part), (Some("/nowhere/plain.las"), None));
+        assert!(split(Path::new("/nowhere/site.e57#color:blue")).is_err());
+        let (file, parts) = split(Path::new("/nowhere/plain.las")).unwrap();
+        assert_eq!(
+            (file.to_str(), parts),
+            (Some("/nowhere/plain.las"), Parts::default())
+        );
         let sel: ScanSelection = "2".parse().unwrap();
-        let joined = with_scans(Path::new("/nowhere/site.e57#scan:0"), &sel);
-        assert_eq!(joined, Path::new("/nowhere/site.e57#scan:2"));
+        let joined = with_scans(Path::new("/nowhere/site.e57#scan:0#color:image"), &sel);
+        assert_eq!(joined, Path::new("/nowhere/site.e57#scan:2#color:image"));
+        let coloured = with_image_colour(Path::new("/nowhere/site.e57"));
+        let (_, parts) = split(&coloured).unwrap();
+        assert!(parts.color_from_images && parts.scans.is_none());
     }
 }

@@ -10,6 +10,8 @@ use super::super::chunk::{RawChunk, RawRgb};
 use super::super::error::LoadError;
 use super::super::guard::guarded;
 use super::super::info::FileInfo;
+use super::facts::ColourFrom;
+use super::photo::{self, Photo};
 use super::pose::{Pose, spherical_to_local};
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -22,7 +24,8 @@ struct Plan {
     file: PathBuf,
     /// The path as given (with its pick), for messages.
     path: PathBuf,
-    scans: Vec<(usize, Pose)>,
+    /// Each picked scan: its index, pose, where its colours come from and its images.
+    scans: Vec<(usize, Pose, ColourFrom, Vec<usize>)>,
     rgb: bool,
     intensity: bool,
     declared: u64,
@@ -49,7 +52,11 @@ impl E57Source {
             file: file.to_path_buf(),
             path: info.path.clone(),
             scans: e57
-                .map(|e| e.selected_scans().map(|s| (s.index, s.pose)).collect())
+                .map(|e| {
+                    e.selected_scans()
+                        .map(|s| (s.index, s.pose, e.colour_from(s), s.images.clone()))
+                        .collect()
+                })
                 .unwrap_or_default(),
             rgb: info.attributes.rgb,
             intensity: info.attributes.intensity,
@@ -144,23 +151,31 @@ fn read_all(
     requests: &Receiver<Request>,
     answers: &SyncSender<Answer>,
 ) -> Result<(), LoadError> {
-    let corrupt = |read: u64, e: e57::Error| LoadError::CorruptPoints {
+    let corrupt = |read: u64, e: &dyn std::fmt::Display| LoadError::CorruptPoints {
         path: plan.path.clone(),
         read,
         declared: plan.declared,
         detail: e.to_string().replace('\n', " "),
     };
-    let mut reader = e57::E57Reader::from_file(&plan.file).map_err(|e| corrupt(0, e))?;
+    let mut reader = e57::E57Reader::from_file(&plan.file).map_err(|e| corrupt(0, &e))?;
     let clouds = reader.pointclouds();
+    let images = reader.images();
     let mut chunk = RawChunk::default();
     let mut want = match requests.recv() {
         Ok(n) => n,
         Err(_) => return Ok(()),
     };
     let mut records = 0u64;
-    for &(index, pose) in &plan.scans {
+    for (index, pose, colour, photo_indices) in &plan.scans {
+        let (index, pose) = (*index, *pose);
         let Some(cloud) = clouds.get(index) else {
             continue;
+        };
+        let photos = if plan.rgb && *colour == ColourFrom::Images && skip < cloud.records {
+            decode_photos(&mut reader, &images, photo_indices)
+                .map_err(|detail| corrupt(records, &detail))?
+        } else {
+            Vec::new()
         };
         if skip >= cloud.records {
             skip -= cloud.records;
@@ -169,12 +184,12 @@ fn read_all(
         }
         let mut points = reader
             .pointcloud_simple(cloud)
-            .map_err(|e| corrupt(records, e))?;
+            .map_err(|e| corrupt(records, &e))?;
         points.apply_pose(false);
         points.spherical_to_cartesian(false);
         points.intensity_to_color(false);
         for point in points.by_ref() {
-            let point = point.map_err(|e| corrupt(records, e))?;
+            let point = point.map_err(|e| corrupt(records, &e))?;
             records += 1;
             if skip > 0 {
                 skip -= 1;
@@ -183,7 +198,14 @@ fn read_all(
             let Some(local) = local_position(&point) else {
                 continue;
             };
-            push(&mut chunk, plan, pose.apply(local), &point);
+            push(
+                &mut chunk,
+                plan,
+                pose.apply(local),
+                &point,
+                *colour,
+                &photos,
+            );
             if chunk.positions.len() >= want {
                 if answers.send(Ok(Some(std::mem::take(&mut chunk)))).is_err() {
                     return Ok(());
@@ -233,17 +255,57 @@ fn unit_to(v: f32, max: f32) -> f32 {
         .round()
 }
 
-fn push(chunk: &mut RawChunk, plan: &Plan, world: DVec3, point: &e57::Point) {
+/// The projected images `indices` of the file, decoded.
+fn decode_photos<T: std::io::Read + std::io::Seek>(
+    reader: &mut e57::E57Reader<T>,
+    images: &[e57::Image],
+    indices: &[usize],
+) -> Result<Vec<Photo>, String> {
+    let mut photos = Vec::with_capacity(indices.len());
+    for &i in indices {
+        let Some(projection) = images.get(i).and_then(|img| img.projection.as_ref()) else {
+            continue;
+        };
+        let (lens, blob) = photo::lens(projection);
+        let mut bytes = Vec::new();
+        reader
+            .blob(&blob.data, &mut bytes)
+            .map_err(|e| format!("image {i}: {e}"))?;
+        let pixels = image::load_from_memory(&bytes)
+            .map_err(|e| format!("image {i}: {e}"))?
+            .to_rgb8();
+        photos.push(Photo {
+            pose: Pose::from_e57(images[i].transform.as_ref()),
+            lens,
+            pixels,
+        });
+    }
+    Ok(photos)
+}
+
+fn push(
+    chunk: &mut RawChunk,
+    plan: &Plan,
+    world: DVec3,
+    point: &e57::Point,
+    colour: ColourFrom,
+    photos: &[Photo],
+) {
     chunk.positions.push(world);
     if plan.intensity {
         let i = point.intensity.map_or(0, |v| unit_to(v, 65535.0) as u16);
         chunk.intensity.get_or_insert_with(Vec::new).push(i);
     }
     if plan.rgb {
-        // A point whose colour is flagged invalid shows its intensity as grey.
-        let c = match &point.color {
-            Some(c) => [c.red, c.green, c.blue].map(|v| unit_to(v, 255.0) as u8),
-            None => [unit_to(point.intensity.unwrap_or(0.0), 255.0) as u8; 3],
+        // A point without a colour (flagged invalid, or seen by no image) shows its
+        // intensity as grey.
+        let grey = || [unit_to(point.intensity.unwrap_or(0.5), 255.0) as u8; 3];
+        let c = match (colour, &point.color) {
+            (ColourFrom::Images, _) => photo::colour_from(photos, world).unwrap_or_else(grey),
+            (ColourFrom::Stored, Some(c)) => {
+                [c.red, c.green, c.blue].map(|v| unit_to(v, 255.0) as u8)
+            }
+            _ => grey(),
         };
         match chunk.rgb.get_or_insert_with(|| RawRgb::Bits8(Vec::new())) {
             RawRgb::Bits8(v) => v.push(c),
