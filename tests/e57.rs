@@ -335,3 +335,32 @@ fn broken_files_give_one_clear_line() {
     let line = error_line(&broken_xml);
     assert!(line.to_lowercase().contains("checksum"), "{line}");
 }
+
+#[test]
+fn images_are_extracted_as_stored() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = site(dir.path());
+    let out = dir.path().join("images");
+    let run = omnicloud(&[
+        "info",
+        path.to_str().unwrap(),
+        "--extract-images",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pano = image::open(out.join("image_000.png")).unwrap().to_rgb8();
+    assert_eq!(pano.dimensions(), (PANO_W, PANO_H));
+    assert!(
+        pano.enumerate_pixels()
+            .all(|(x, y, p)| p.0 == pano_color(x, y))
+    );
+    let photo = image::open(out.join("image_001.png")).unwrap().to_rgb8();
+    assert_eq!(photo.get_pixel(5, 5).0, PHOTO_LEFT);
+    assert_eq!(photo.get_pixel(35, 5).0, PHOTO_RIGHT);
+    let err = io::e57::read_image(&path, 2).unwrap_err().to_string();
+    assert!(err.contains("no image 2: the file holds 2"), "{err}");
+}

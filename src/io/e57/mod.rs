@@ -266,6 +266,36 @@ pub fn read_e57_info(path: &Path) -> Result<E57Info, LoadError> {
     read_facts(path).map(|(_, _, info)| info)
 }
 
+/// Image `index` of an E57 file: its facts and its stored bytes (PNG or JPEG, as
+/// [`ImageInfo::encoding`] says).
+///
+/// # Errors
+/// The file's [`LoadError`]; [`LoadError::NoSuchScan`] for an index past the last image.
+pub fn read_image(path: &Path, index: usize) -> Result<(ImageInfo, Vec<u8>), LoadError> {
+    let (file, mut reader, info) = read_facts(path)?;
+    let missing = || LoadError::NoSuchScan {
+        path: file.clone(),
+        detail: format!(
+            "no image {index}: the file holds {} (numbered from 0)",
+            info.images.len()
+        ),
+    };
+    let image = reader.images().into_iter().nth(index).ok_or_else(missing)?;
+    let blob = match (&image.projection, &image.visual_reference) {
+        (Some(p), _) => photo::lens(p).1.data.clone(),
+        (None, Some(v)) => v.blob.data.clone(),
+        (None, None) => return Err(missing()),
+    };
+    let mut bytes = Vec::new();
+    guarded(path, "reading an image", || {
+        reader
+            .blob(&blob, &mut bytes)
+            .map(|_| ())
+            .map_err(|e| corrupt(path, e))
+    })?;
+    Ok((info.images[index].clone(), bytes))
+}
+
 /// Header facts of an E57 file (the picked scans' counts, bounds and attributes).
 pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
     read_facts(path).map(|(_, reader, info)| file_info(path, &reader, info))
