@@ -232,3 +232,75 @@ fn color_image_renders_the_photos_colours() {
     assert_eq!((above[0], above[2]), (255, 0), "{above:?}");
     assert_eq!((below[0], below[2]), (0, 255), "{below:?}");
 }
+
+#[test]
+fn a_station_render_compares_with_the_scanners_panorama() {
+    let dir = tempfile::tempdir().unwrap();
+    let site = dir.path().join("site.e57");
+    write_site(&site);
+    let out = dir.path().join("station1.png");
+    render(
+        &site,
+        &out,
+        &[
+            "--camera",
+            "station:1",
+            "--color",
+            "image",
+            "--renderer",
+            "raytrace",
+        ],
+    );
+    let reference = format!("{}#image:0", site.display());
+    let json = dir.path().join("report.json");
+    // Share of the render's pixels whose colour differs from the photo's, and the share of
+    // pixels the render covers.
+    let compare = |test: &Path| {
+        omnicloud(&[
+            "compare",
+            &reference,
+            test.to_str().unwrap(),
+            "--report",
+            json.to_str().unwrap(),
+        ]);
+        let report: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        let all = &report["eyes"][0]["all"];
+        assert_eq!(
+            all["ref_hits"],
+            128 * 64,
+            "the full-sphere photo covers every pixel"
+        );
+        let test_hits = all["test_hits"].as_f64().unwrap();
+        (
+            all["color_differs"].as_f64().unwrap() / test_hits,
+            test_hits / (128.0 * 64.0),
+        )
+    };
+    let (differs, covered) = compare(&out);
+    // Measured: 278 of 2,926 covered pixels differ (spheres straddling the photo's 8-pixel
+    // blocks), 35.7 % covered.
+    assert!(differs < 0.15, "{differs}");
+    assert!((0.30..0.42).contains(&covered), "{covered}");
+    // Turned a quarter off the station's heading, the render no longer matches its photo.
+    let turned = dir.path().join("turned.png");
+    render(
+        &site,
+        &turned,
+        &[
+            "--camera",
+            "station:1",
+            "--yaw",
+            "90",
+            "--color",
+            "image",
+            "--renderer",
+            "raytrace",
+        ],
+    );
+    let (turned_differs, _) = compare(&turned);
+    assert!(
+        turned_differs > 3.0 * differs,
+        "{turned_differs} vs {differs}"
+    );
+}

@@ -296,6 +296,39 @@ pub fn read_image(path: &Path, index: usize) -> Result<(ImageInfo, Vec<u8>), Loa
     Ok((info.images[index].clone(), bytes))
 }
 
+/// Image `index` of an E57 file decoded with its projection and pose, and the heading of
+/// the station it was taken from (its scan's; its own pose's when it names no scan).
+///
+/// # Errors
+/// As [`read_image`]; a picture without projection, or one that does not decode.
+pub fn read_photo(path: &Path, index: usize) -> Result<(photo::Photo, f64), LoadError> {
+    let (file, reader, info) = read_facts(path)?;
+    let image = reader.images().into_iter().nth(index);
+    let Some(projection) = image.as_ref().and_then(|i| i.projection.clone()) else {
+        return Err(LoadError::NoSuchScan {
+            path: file,
+            detail: format!("image {index} has no projection to compare with"),
+        });
+    };
+    let (_, bytes) = read_image(path, index)?;
+    let pixels = image::load_from_memory(&bytes)
+        .map_err(|e| corrupt(path, format!("image {index}: {e}")))?
+        .to_rgb8();
+    let facts = &info.images[index];
+    let yaw = facts.scan.map_or(facts.pose.yaw_degrees(), |s| {
+        info.scans[s].pose.yaw_degrees()
+    });
+    let lens = photo::lens(&projection).0;
+    Ok((
+        photo::Photo {
+            pose: facts.pose,
+            lens,
+            pixels,
+        },
+        yaw,
+    ))
+}
+
 /// Header facts of an E57 file (the picked scans' counts, bounds and attributes).
 pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
     read_facts(path).map(|(_, reader, info)| file_info(path, &reader, info))
