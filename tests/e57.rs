@@ -364,3 +364,37 @@ fn images_are_extracted_as_stored() {
     let err = io::e57::read_image(&path, 2).unwrap_err().to_string();
     assert!(err.contains("no image 2: the file holds 2"), "{err}");
 }
+
+#[test]
+fn e57_choices_on_other_formats_say_what_they_need() {
+    let las = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/laspy/simple.las");
+    let las = las.to_str().unwrap();
+    let err = |args: &[&str]| {
+        let out = omnicloud(args);
+        assert!(!out.status.success());
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    let e = err(&[
+        "render",
+        las,
+        "-o",
+        "/nonexistent/x.png",
+        "--color",
+        "image",
+    ]);
+    assert!(
+        e.contains("simple.las") && e.contains("needs an E57 file"),
+        "{e}"
+    );
+    let e = err(&["render", las, "-o", "/nonexistent/x.png", "--scan", "1"]);
+    assert!(e.contains("only E57 files have scans"), "{e}");
+    let e = err(&[
+        "render",
+        las,
+        "-o",
+        "/nonexistent/x.png",
+        "--camera",
+        "station:0",
+    ]);
+    assert!(e.contains("--camera station:.. needs an E57 file"), "{e}");
+}

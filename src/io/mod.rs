@@ -107,7 +107,12 @@ fn detect(path: &Path) -> Result<Kind, LoadError> {
             _ => Err(LoadError::CorruptHeader {
                 path: path.to_path_buf(),
                 format: "E57",
-                detail: "only E57 files have parts to pick ('#scan:', '#image:', '#color:')".into(),
+                detail: if parts.color_from_images {
+                    "colour from the scanner's images (--color image) needs an E57 file".into()
+                } else {
+                    "only E57 files have scans and images to pick (--scan, '#scan:', '#image:')"
+                        .into()
+                },
             }),
         };
     }
