@@ -1,6 +1,6 @@
 //! Mutation fuzzing of the point-cloud readers: truncated, bit-flipped and garbage-header
-//! variants of every LAS/LAZ file of laspy's test data and of generated PLY files (ascii,
-//! binary LE/BE).
+//! variants of every LAS/LAZ file of laspy's test data, of generated PLY files (ascii,
+//! binary LE/BE) and of a real E57 file.
 //!
 //! For every variant, `open` + streaming all chunks + `load_scene` must return an error naming
 //! the file or a valid scene; never panic, never hang (each input runs on a worker thread with
@@ -638,6 +638,40 @@ fn bit_flipped_ply_files_never_panic() {
             exercise(dir.path(), "flip.ply", &bytes);
         },
     );
+}
+
+/// A real E57 file (1,220 points with colour and intensity, libE57's writer). Its points are
+/// decoded on the reader's own thread, whose allocations the per-thread record does not see:
+/// for E57 only the allocator's refusal above 1 GiB watches them.
+fn e57_seed() -> Vec<u8> {
+    std::fs::read(data_common::repo_file("tests/data/e57/pipeSpherical.e57")).unwrap()
+}
+
+#[test]
+fn truncated_e57_files_never_panic() {
+    counted("truncated_e57_files_never_panic", || {
+        let dir = tempdir();
+        let bytes = e57_seed();
+        // Every third byte of the 48-byte header and the first page, then spread over the rest.
+        for cut in cut_points(bytes.len(), 1024) {
+            exercise(dir.path(), &format!("cut{cut}.e57"), &bytes[..cut]);
+        }
+    });
+}
+
+/// Bit flips anywhere: most break a page's checksum, which must be an error naming the file.
+#[test]
+fn bit_flipped_e57_files_never_panic() {
+    let strategy = prop::collection::vec((any::<prop::sample::Index>(), 0u8..8), 1..8);
+    property("bit_flipped_e57_files_never_panic", strategy, |flips| {
+        let mut bytes = e57_seed();
+        for (index, bit) in &flips {
+            let at = index.index(bytes.len());
+            bytes[at] ^= 1 << bit;
+        }
+        let dir = tempdir();
+        exercise(dir.path(), "flip.e57", &bytes);
+    });
 }
 
 #[test]

@@ -7,7 +7,7 @@ use super::bench::BenchArgs;
 use super::compare::CompareArgs;
 use super::render_args::RenderArgs;
 
-/// Render LiDAR scans (LAS, LAZ, PLY) to 360° panoramas and omnidirectional-stereo pairs.
+/// Render LiDAR scans (LAS, LAZ, PLY, E57) to 360° panoramas and omnidirectional-stereo pairs.
 #[derive(Debug, Parser)]
 #[command(name = "omnicloud", version, about)]
 pub struct Cli {
@@ -43,6 +43,36 @@ pub enum Command {
     /// Encode a folder of panorama frames (a tour) into an H.264 MP4 that 360 players show
     /// as a sphere, in stereo for ODS frames.
     Video(super::video::VideoArgs),
+}
+
+impl Command {
+    /// The command with `--scan` applied to its input files (each named `FILE#scan:..`), so
+    /// every reader behind it reads those scans only (with `--color image`, coloured from
+    /// their images: `FILE#color:image`), and `--camera station:N` turned into
+    /// the station's position and heading (added to `--yaw`).
+    ///
+    /// # Errors
+    /// A station the file does not have, or a file without stations.
+    pub fn resolved(mut self) -> Result<Command, crate::tour::stations::StationError> {
+        match &mut self {
+            Command::Render(a) => {
+                a.file = a.draw.colour_path(&a.view.scan_path(&a.file));
+                for f in &mut a.more_files {
+                    *f = a.draw.colour_path(&a.view.scan_path(f));
+                }
+                a.view.resolve_station(&a.file)?;
+            }
+            Command::Tour(a) => a.file = a.draw.colour_path(&a.view.scan_path(&a.file)),
+            Command::Bench(a) => {
+                a.scene = a.scene.as_ref().map(|f| a.view.scan_path(f));
+                if let Some(scene) = &a.scene {
+                    a.view.resolve_station(scene)?;
+                }
+            }
+            _ => {}
+        }
+        Ok(self)
+    }
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ use super::progress;
 /// Options of `omnicloud info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// LAS, LAZ or PLY files.
+    /// LAS, LAZ, PLY or E57 files (FILE.e57#scan:N,.. for some scans).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Also read every point: class, return-number and returns-per-pulse histograms,
@@ -28,6 +28,10 @@ pub struct InfoArgs {
     /// Print JSON (one object per file, one per line) instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Write every image of an E57 file into DIR as it is stored (image_000.png or .jpg,
+    /// numbered as `info` lists them; FILE_image_000.* with several files).
+    #[arg(long, value_name = "DIR")]
+    pub extract_images: Option<PathBuf>,
 }
 
 /// Runs `omnicloud info`.
@@ -95,6 +99,42 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         }
         if let Some(Err(e)) = stats {
             return Err(e);
+        }
+        if let (Some(dir), Some(e57)) = (&args.extract_images, &info.e57) {
+            let prefix = if args.files.len() > 1 {
+                format!(
+                    "{}_",
+                    file.file_stem().unwrap_or_default().to_string_lossy()
+                )
+            } else {
+                String::new()
+            };
+            extract_images(file, e57.images.len(), dir, &prefix, args.json)?;
+        }
+    }
+    Ok(())
+}
+
+/// Writes the `count` images of the E57 `file` into `dir`, named `{prefix}image_NNN.EXT`.
+fn extract_images(file: &Path, count: usize, dir: &Path, prefix: &str, quiet: bool) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    for i in 0..count {
+        let (image, bytes) = io::e57::read_image(file, i)?;
+        let extension = if image.encoding == "jpeg" {
+            "jpg"
+        } else {
+            "png"
+        };
+        let out = dir.join(format!("{prefix}image_{i:03}.{extension}"));
+        crate::output::write_atomically(&out, |w| {
+            std::io::Write::write_all(w, &bytes).map_err(|source| crate::output::OutputError::Io {
+                path: out.clone(),
+                action: "writing",
+                source,
+            })
+        })?;
+        if !quiet {
+            println!("extracted:     image {i} to {}", out.display());
         }
     }
     Ok(())

@@ -34,9 +34,22 @@ pub use view::ViewerArgs;
 pub fn run(matches: &clap::ArgMatches) -> Result<()> {
     use clap::FromArgMatches;
     let cli = Cli::from_arg_matches(matches)?;
-    match cli.command {
+    match cli.command.resolved()? {
         Command::Info(args) => info::run(&args),
         Command::Index(args) => index::run(&args),
+        Command::Render(args)
+            if args.view.camera
+                == Some(crate::prepare::CameraChoice::Station(
+                    crate::prepare::StationPick::All,
+                )) =>
+        {
+            tour::run_stations(
+                &args,
+                matches
+                    .subcommand_matches("render")
+                    .expect("the render command's matches"),
+            )
+        }
         Command::Render(args) => render::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Compare(args) => compare::run(&args),

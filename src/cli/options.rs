@@ -5,9 +5,11 @@
 use clap::Args;
 
 use crate::io::Up;
+use crate::io::e57::ScanSelection;
 use crate::prepare::filter::{ClassSet, Crop, ReturnFilter};
 use crate::prepare::{
-    CameraChoice, EyeHeight, LengthScale, PointFilter, PrepareOptions, RadiusChoice, Units,
+    CameraChoice, EyeHeight, LengthScale, PointFilter, PrepareOptions, RadiusChoice, StationPick,
+    Units,
 };
 use crate::projection::depth_map::DepthMap;
 use crate::projection::{OdsOffset, PoleMerge, PoleMerging, Projection, Stereo, StereoKind};
@@ -20,8 +22,14 @@ use super::parse;
 pub struct ViewArgs {
     /// Camera: auto (open space near the scan's centre, no point within 0.6 × the eye height
     /// of the eye, ground below), center (the XY centre of the bounds, above the ground
-    /// there) or X,Y,Z in file coordinates [default: auto].
-    #[arg(long, value_name = "auto|center|X,Y,Z", allow_hyphen_values = true)]
+    /// there), X,Y,Z in file coordinates, or station:N (an E57 scan's scanner position and
+    /// heading; render's station:all writes one panorama per station into -o DIR)
+    /// [default: auto].
+    #[arg(
+        long,
+        value_name = "auto|center|X,Y,Z|station:N|all",
+        allow_hyphen_values = true
+    )]
     pub camera: Option<CameraChoice>,
     /// Heading in degrees: 0 looks along +Y, 90 along +X.
     #[arg(long, default_value = "0", value_parser = parse::degrees, allow_hyphen_values = true)]
@@ -72,6 +80,10 @@ pub struct ViewArgs {
     /// Up axis of the file.
     #[arg(long, value_enum, ignore_case = true, default_value = "z")]
     pub up: Up,
+    /// E57 scans to read, by index (from 0) or name, e.g. 0,2 or Hall [default: all]. The
+    /// same as naming the file FILE#scan:0,2.
+    #[arg(long, value_name = "N|NAME[,..]")]
+    pub scan: Option<ScanSelection>,
     /// Keep only these classification codes, e.g. 2,6 (ground, buildings).
     #[arg(long, value_name = "CODES")]
     pub classes: Option<ClassSet>,
@@ -101,6 +113,31 @@ pub struct ViewArgs {
 }
 
 impl ViewArgs {
+    /// `--camera station:N` as the station's position, its heading added to `--yaw`; other
+    /// choices (and `station:all`, a folder of panoramas) are left as they are.
+    ///
+    /// # Errors
+    /// A station `file` does not have, or a file without stations.
+    pub fn resolve_station(
+        &mut self,
+        file: &std::path::Path,
+    ) -> Result<(), crate::tour::stations::StationError> {
+        if let Some(CameraChoice::Station(StationPick::Index(n))) = self.camera {
+            let station = crate::tour::stations::read_station(file, n)?;
+            self.camera = Some(CameraChoice::At(station.position));
+            self.yaw = crate::tour::poses::wrap_degrees(self.yaw + station.yaw);
+        }
+        Ok(())
+    }
+
+    /// `file` with the scans `--scan` picks (`FILE#scan:..`); as it is without `--scan`.
+    pub fn scan_path(&self, file: &std::path::Path) -> std::path::PathBuf {
+        match &self.scan {
+            Some(selection) => crate::io::e57::select::with_scans(file, selection),
+            None => file.to_path_buf(),
+        }
+    }
+
     /// The scale from `--units` to the coordinates of `info`'s file.
     pub fn length_scale(&self, info: &crate::io::FileInfo) -> LengthScale {
         LengthScale::for_info(info, self.units, self.up)
@@ -213,7 +250,8 @@ pub struct DrawArgs {
     /// Image width per eye; the height is half of it.
     #[arg(long, default_value = "3840", value_parser = parse::width)]
     pub width: u32,
-    /// Point colour (auto: rgb when present, else elevation).
+    /// Point colour (auto: rgb when present, else elevation; an E57 scan without colour but
+    /// with photos takes them; image: from the E57 scanner's photos).
     #[arg(long, value_enum, ignore_case = true, default_value = "auto")]
     pub color: ColorMode,
     /// Shading.
@@ -231,6 +269,15 @@ pub struct DrawArgs {
 }
 
 impl DrawArgs {
+    /// `file` read with its points coloured from its images (`FILE#color:image`) under
+    /// `--color image`; as it is otherwise.
+    pub fn colour_path(&self, file: &std::path::Path) -> std::path::PathBuf {
+        match self.color {
+            ColorMode::Image => crate::io::e57::select::with_image_colour(file),
+            _ => file.to_path_buf(),
+        }
+    }
+
     /// Width the renderer draws per eye under `look`: `--width` times `--supersample`.
     pub fn render_width(&self, look: &LookArgs) -> u32 {
         self.width.saturating_mul(look.supersample.max(1))

@@ -15,7 +15,7 @@ use super::parse;
 /// Options of `omnicloud render`.
 #[derive(Debug, Clone, Args)]
 pub struct RenderArgs {
-    /// A LAS, LAZ or PLY file.
+    /// A LAS, LAZ, PLY or E57 file.
     pub file: PathBuf,
     /// More files rendered with the first as one scene (tiles of one survey, same
     /// coordinate system).
@@ -87,6 +87,13 @@ pub struct RenderArgs {
     /// or 20 median point spacings when higher (sparse aerial data)].
     #[arg(long, value_name = "H", value_parser = parse::distance)]
     pub height: Option<f64>,
+    /// With --camera station:all: render only shard I of N of the stations, or `auto` (as
+    /// `tour --shard`).
+    #[arg(long, value_name = "I/N|auto")]
+    pub shard: Option<crate::tour::ShardChoice>,
+    /// With --camera station:all and --shard auto: the number of shards (as `tour --shards`).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    pub shards: Option<u32>,
 }
 
 impl RenderArgs {

@@ -9,8 +9,9 @@ use super::render_args::RenderArgs;
 
 /// Options of `tour` that `render` also has but that do not pass to a frame's render: the
 /// frame places its own camera (`--camera`, `--yaw`, `--pitch`, `--roll` are per pose, and
-/// `--height` would refuse a given camera), names its own output, and reports nothing.
-pub const TOUR_ONLY: [&str; 10] = [
+/// `--height` would refuse a given camera), names its own output, reports nothing, and is
+/// one frame of whatever shard it belonged to.
+pub const TOUR_ONLY: [&str; 12] = [
     "file",
     "output",
     "camera",
@@ -21,6 +22,8 @@ pub const TOUR_ONLY: [&str; 10] = [
     "quiet",
     "max_memory",
     "video",
+    "shard",
+    "shards",
 ];
 
 /// `omnicloud render SCAN` and `--long=value` for every option of `render` that `tour`

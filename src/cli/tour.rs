@@ -19,6 +19,7 @@ use crate::tour::{
 
 use super::options::{DrawArgs, LookArgs, ViewArgs};
 use super::progress;
+use super::render_args::RenderArgs;
 
 /// Options of `omnicloud tour`.
 #[derive(Debug, Clone, Args)]
@@ -29,12 +30,21 @@ use super::progress;
     mut_arg("camera", |a| a.hide(true)),
 )]
 pub struct TourArgs {
-    /// A LAS, LAZ or PLY file.
+    /// A LAS, LAZ, PLY or E57 file.
     pub file: PathBuf,
     /// The camera path: CSV with a header (x,y[,z][,yaw,pitch,roll]) or a GeoJSON
     /// LineString/MultiLineString, in the scan's coordinates.
-    #[arg(long, value_name = "PATH.csv|PATH.geojson")]
-    pub path: PathBuf,
+    #[arg(
+        long,
+        value_name = "PATH.csv|PATH.geojson",
+        required_unless_present = "stations",
+        conflicts_with = "stations"
+    )]
+    pub path: Option<PathBuf>,
+    /// One frame at each station of an E57 file instead of a path: where each scan's
+    /// scanner stood, with its heading (--yaw is added; --scan picks the stations).
+    #[arg(long)]
+    pub stations: bool,
     /// Output folder for frame_000000.png ... and tour.json.
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: PathBuf,
@@ -146,6 +156,49 @@ fn parse_height(s: &str) -> Result<f64, String> {
 }
 
 /// Runs `omnicloud tour`: lengths converted from `--units` to the scan's unit.
+/// Runs `omnicloud render --camera station:all -o DIR`: a tour of the file's stations, one
+/// panorama each, with `render`'s options (frames as PNG, resumable, `--shard` as a tour).
+pub fn run_stations(render: &RenderArgs, matches: &clap::ArgMatches) -> Result<()> {
+    let single = [
+        ("--depth", render.depth.is_some()),
+        ("--anaglyph", render.anaglyph.is_some()),
+        ("--disparity", render.disparity.is_some()),
+        ("--origin", render.origin.is_some()),
+        ("--separate-eyes", render.separate_eyes),
+        ("--comfort", render.comfort),
+    ];
+    if let Some((name, _)) = single.iter().find(|(_, given)| *given) {
+        bail!("{name} is for one panorama: --camera station:all writes a folder of them");
+    }
+    let tour = TourArgs {
+        file: render.file.clone(),
+        path: None,
+        stations: true,
+        output: render.output.clone(),
+        height: render.height,
+        speed: 1.4,
+        fps: 30.0,
+        frames: None,
+        heading_smoothing: 0.0,
+        format: FrameFormat::Png,
+        quality: render.quality,
+        overwrite: false,
+        shard: render.shard,
+        shards: render.shards,
+        draw: render.draw.clone(),
+        view: ViewArgs {
+            camera: None,
+            ..render.view.clone()
+        },
+        look: render.look.clone(),
+        max_memory: render.max_memory,
+        quiet: render.quiet,
+        video: None,
+    };
+    run(&tour, matches)
+}
+
+/// Runs `omnicloud tour`.
 pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
     let scale = given.view.length_scale(&crate::io::read_info(&given.file)?);
     let args = &given.in_file_units(&scale);
@@ -185,7 +238,10 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
 
     let request = TourRequest {
         scan: args.file.clone(),
-        path: args.path.clone(),
+        route: match &args.path {
+            Some(p) => tour::Route::Path(p.clone()),
+            None => tour::Route::Stations,
+        },
         prepare: args.view.prepare_options(),
         height: args.view.eye_height(args.height),
         sampling: match args.frames {
@@ -223,7 +279,7 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         planned.origin.x,
         planned.origin.y,
         planned.origin.z,
-        args.path.display(),
+        request.route,
         planned.length,
         planned.keyframes.len(),
         planned.eye_height,
@@ -498,6 +554,7 @@ mod render_command_tests {
         ("depth_map", &["0.5=1.5,4=6.25", "1=2"]),
         ("radius", &["0.25", "auto", "adaptive:6"]),
         ("up", &["z", "y"]),
+        ("scan", &["0", "1,Hall"]),
         ("classes", &["2,6", "2"]),
         ("drop_classes", &["7,18"]),
         ("returns", &["all", "first", "last"]),

@@ -10,6 +10,9 @@ pub enum CompareError {
     /// Reading an input or writing the heatmap failed (the error names the file).
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A scan file (an E57 image as the reference) could not be read.
+    #[error(transparent)]
+    Load(#[from] crate::io::LoadError),
     /// Reference and test differ in size.
     #[error(
         "{what}: reference is {}x{} pixels but test is {}x{}; compare renders of the same size",

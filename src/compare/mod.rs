@@ -29,6 +29,7 @@ mod files;
 pub mod heatmap;
 pub mod holes;
 mod measure;
+pub mod photo;
 pub mod rendered_disparity;
 mod report;
 mod samples;

@@ -28,7 +28,7 @@ pub enum LoadError {
     },
     /// Neither the first bytes nor the extension name a format we read.
     #[error(
-        "{}: unsupported format (neither LAS/LAZ nor PLY magic bytes; extension '{extension}'); expected .las, .laz or .ply",
+        "{}: unsupported format (neither LAS/LAZ, PLY nor E57 magic bytes; extension '{extension}'); expected .las, .laz, .ply or .e57",
         path.display()
     )]
     UnsupportedFormat {
@@ -42,7 +42,7 @@ pub enum LoadError {
     CorruptHeader {
         /// The file.
         path: PathBuf,
-        /// "LAS" or "PLY".
+        /// "LAS", "PLY" or "E57".
         format: &'static str,
         /// What failed.
         detail: String,
@@ -152,6 +152,14 @@ pub enum LoadError {
         /// What failed.
         detail: String,
     },
+    /// A scan picked by index or name (`--scan`, `#scan:`) is not in the E57 file.
+    #[error("{}: {detail}", path.display())]
+    NoSuchScan {
+        /// The file.
+        path: PathBuf,
+        /// Which pick failed and why.
+        detail: String,
+    },
     /// The PLY file has no `vertex` element with scalar `x`, `y` and `z` properties.
     #[error("{}: PLY has no 'vertex' element with scalar x, y and z properties ({detail})", path.display())]
     PlyMissingXyz {
@@ -180,6 +188,7 @@ impl LoadError {
             | LoadError::UnsupportedLasVersion { path, .. }
             | LoadError::UnsupportedLasPointFormat { path, .. }
             | LoadError::PlyMissingXyz { path, .. }
+            | LoadError::NoSuchScan { path, .. }
             | LoadError::SeekPastEnd { path, .. }
             | LoadError::SeekFailed { path, .. }
             | LoadError::DecoderPanic { path, .. } => path,

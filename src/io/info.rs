@@ -19,6 +19,8 @@ pub enum Format {
     Laz,
     /// PLY with the given encoding.
     Ply(PlyEncoding),
+    /// ASTM E57 (scans with poses, and their images).
+    E57,
 }
 
 /// How a PLY file stores its payload.
@@ -44,6 +46,10 @@ pub enum ColorDepth {
     Bits16,
     /// Floating point in 0–1 (PLY `float`/`double`).
     Float,
+    /// Scaled to 0–1 by the limits the file states (E57), then to 8 bits.
+    Normalised,
+    /// Taken from the scanner's images of each point's station (E57).
+    FromImages,
 }
 
 /// Which per-point attributes the file carries.
@@ -88,6 +94,8 @@ pub struct FileInfo {
     pub records_in_file: Option<u64>,
     /// LAS header facts (`None` for PLY).
     pub las: Option<LasHeaderInfo>,
+    /// E57 scans, images and writer (`None` for other formats).
+    pub e57: Option<super::e57::E57Info>,
 }
 
 /// What a LAS header says beyond the facts every format has.
@@ -277,6 +285,7 @@ impl fmt::Display for Format {
                 f.write_str("PLY (binary little endian)")
             }
             Format::Ply(PlyEncoding::BinaryBigEndian) => f.write_str("PLY (binary big endian)"),
+            Format::E57 => f.write_str("E57 (ASTM E2807)"),
         }
     }
 }
@@ -288,6 +297,8 @@ impl fmt::Display for ColorDepth {
             ColorDepth::Bits8 => "8-bit",
             ColorDepth::Bits16 => "16-bit fields (scaled to 8 bits as the values need)",
             ColorDepth::Float => "floating point (0-1)",
+            ColorDepth::Normalised => "scaled by the file's colour limits to 8 bits",
+            ColorDepth::FromImages => "from the scanner's images of each station",
         })
     }
 }
@@ -402,6 +413,7 @@ impl FileInfo {
                     PlyEncoding::BinaryBigEndian => "binary_big_endian",
                 }),
             ),
+            Format::E57 => ("E57", None),
         };
         let xyz = |v: DVec3| json!([v.x, v.y, v.z]);
         let las = self.las.as_ref();
@@ -431,6 +443,8 @@ impl FileInfo {
                 ColorDepth::Bits8 => "8-bit",
                 ColorDepth::Bits16 => "16-bit",
                 ColorDepth::Float => "float",
+                ColorDepth::Normalised => "normalised",
+                ColorDepth::FromImages => "images",
             },
             "system_identifier": las.map(|l| &l.system_identifier),
             "generating_software": las.map(|l| &l.generating_software),
@@ -446,6 +460,7 @@ impl FileInfo {
                 "extended": v.extended,
             })).collect::<Vec<_>>()),
             "ignored_properties": self.ignored_properties,
+            "e57": self.e57.as_ref().map(|e| e.to_json()),
         })
     }
 }
@@ -581,6 +596,9 @@ impl fmt::Display for FileInfo {
         if !self.ignored_properties.is_empty() {
             write!(f, "\nignored:       {}", self.ignored_properties.join(", "))?;
         }
+        if let Some(e) = &self.e57 {
+            write!(f, "\n{e}")?;
+        }
         Ok(())
     }
 }
@@ -629,6 +647,7 @@ mod tests {
             ignored_properties: vec![],
             records_in_file: None,
             las: None,
+            e57: None,
         };
         let text = info.to_string();
         let lines: Vec<&str> = text.lines().collect();

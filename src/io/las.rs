@@ -261,6 +261,7 @@ fn file_info(path: &Path, header: &las::Header) -> Result<FileInfo, LoadError> {
             vlrs,
             crs: crs(header),
         }),
+        e57: None,
     })
 }
 

@@ -1,4 +1,4 @@
-//! Point-cloud input: LAS/LAZ and PLY readers, streamed in chunks.
+//! Point-cloud input: LAS/LAZ, PLY and E57 readers, streamed in chunks.
 //!
 //! [`open`] detects the format (magic bytes first, extension second), reads the header into a
 //! [`FileInfo`] and returns a [`PointReader`] whose [`PointReader::chunks`] streams the points
@@ -10,6 +10,7 @@
 
 mod chunk;
 pub mod copc;
+pub mod e57;
 mod error;
 pub mod extra_bytes;
 mod guard;
@@ -50,6 +51,8 @@ enum Source {
     Ply(Box<ply::PlySource>),
     /// Chosen nodes of a COPC file ([`open_nodes`]).
     Copc(Box<copc::CopcSource>),
+    /// The picked scans of an E57 file.
+    E57(Box<e57::E57Source>),
 }
 
 impl Source {
@@ -58,6 +61,7 @@ impl Source {
             Source::Las(s) => s.next_raw(n),
             Source::Ply(s) => s.next_raw(n),
             Source::Copc(s) => s.next_raw(),
+            Source::E57(s) => s.next_raw(n),
         }
     }
 
@@ -66,6 +70,7 @@ impl Source {
             Source::Las(s) => s.seek(point),
             Source::Ply(s) => s.seek(point),
             Source::Copc(s) => Err(s.seek_unsupported(point)),
+            Source::E57(s) => s.seek(point),
         }
     }
 }
@@ -89,27 +94,54 @@ impl std::fmt::Debug for PointReader {
 enum Kind {
     Las,
     Ply,
+    E57,
 }
 
 /// Detects the format from the first bytes, falling back to the extension to word the error.
 fn detect(path: &Path) -> Result<Kind, LoadError> {
-    let meta = std::fs::metadata(path).map_err(|e| LoadError::from_io(path, e))?;
+    // An E57 path may pick scans or an image after '#'; the file is the part before.
+    if let Ok((file, parts)) = e57::select::split(path)
+        && parts != e57::select::Parts::default()
+    {
+        return match detect_file(&file, path)? {
+            Kind::E57 => Ok(Kind::E57),
+            _ => Err(LoadError::CorruptHeader {
+                path: path.to_path_buf(),
+                format: "E57",
+                detail: if parts.color_from_images {
+                    "colour from the scanner's images (--color image) needs an E57 file".into()
+                } else {
+                    "only E57 files have scans and images to pick (--scan, '#scan:', '#image:')"
+                        .into()
+                },
+            }),
+        };
+    }
+    detect_file(path, path)
+}
+
+/// [`detect`] for `path` itself; errors name `shown`.
+fn detect_file(path: &Path, shown: &Path) -> Result<Kind, LoadError> {
+    let meta = std::fs::metadata(path).map_err(|e| LoadError::from_io(shown, e))?;
     if meta.is_dir() {
         return Err(LoadError::Unreadable {
-            path: path.to_path_buf(),
+            path: shown.to_path_buf(),
             source: std::io::Error::other("it is a directory"),
         });
     }
     if meta.len() == 0 {
         return Err(LoadError::EmptyFile {
-            path: path.to_path_buf(),
+            path: shown.to_path_buf(),
         });
     }
-    let mut magic = Vec::with_capacity(4);
+    let mut magic = Vec::with_capacity(8);
     std::fs::File::open(path)
-        .and_then(|f| f.take(4).read_to_end(&mut magic))
-        .map_err(|e| LoadError::from_io(path, e))?;
-    if magic == b"LASF" {
+        .and_then(|f| f.take(8).read_to_end(&mut magic))
+        .map_err(|e| LoadError::from_io(shown, e))?;
+    if magic == e57::SIGNATURE {
+        return Ok(Kind::E57);
+    }
+    if magic.starts_with(b"LASF") {
         return Ok(Kind::Las);
     }
     if magic.starts_with(b"ply") && matches!(magic.get(3), Some(b'\n' | b'\r')) {
@@ -122,22 +154,26 @@ fn detect(path: &Path) -> Result<Kind, LoadError> {
     let expected = match extension.as_str() {
         "las" | "laz" => Some(("LAS", "'LASF'")),
         "ply" => Some(("PLY", "'ply' and a newline")),
+        "e57" => Some((
+            "E57",
+            "'ASTM-E57' (not an E57 file, or one cut before its header)",
+        )),
         _ => None,
     };
     match expected {
         Some((format, signature)) => Err(LoadError::CorruptHeader {
-            path: path.to_path_buf(),
+            path: shown.to_path_buf(),
             format,
             detail: format!("the file does not start with {signature}"),
         }),
         None => Err(LoadError::UnsupportedFormat {
-            path: path.to_path_buf(),
+            path: shown.to_path_buf(),
             extension,
         }),
     }
 }
 
-/// Opens a LAS, LAZ or PLY file and reads its header.
+/// Opens a LAS, LAZ, PLY or E57 file and reads its header.
 ///
 /// # Errors
 /// Any [`LoadError`] about the file's existence, format or header; point data is not read.
@@ -157,6 +193,13 @@ pub fn open(path: &Path) -> Result<PointReader, LoadError> {
                 source: Source::Ply(Box::new(source)),
             })
         }
+        Kind::E57 => {
+            let (info, source) = e57::open(path)?;
+            Ok(PointReader {
+                info,
+                source: Source::E57(Box::new(source)),
+            })
+        }
     }
 }
 
@@ -170,6 +213,7 @@ pub fn read_info(path: &Path) -> Result<FileInfo, LoadError> {
     match detect(path)? {
         Kind::Las => las::header_info(path),
         Kind::Ply => ply::header_info(path),
+        Kind::E57 => e57::header_info(path),
     }
 }
 

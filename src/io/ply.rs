@@ -309,6 +309,7 @@ fn open_with(path: &Path, check_points: bool) -> Result<(FileInfo, PlySource), L
         ignored_properties,
         records_in_file,
         las: None,
+        e57: None,
     };
     let source = PlySource {
         path: path.to_path_buf(),

@@ -21,7 +21,7 @@ use crate::scene::Scene;
 pub use filter::{FilterCounts, FilterError, PointFilter};
 pub use lengths::{LengthScale, Units};
 pub use lod::{Lod, LodChoice, LodReport};
-pub use placement::{CameraChoice, EyeHeight};
+pub use placement::{CameraChoice, EyeHeight, StationPick};
 pub use radius::{RadiusChoice, RadiusRule};
 pub use subsample::Subsample;
 

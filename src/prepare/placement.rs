@@ -74,6 +74,19 @@ pub enum CameraChoice {
     Center,
     /// This position, in file coordinates.
     At(DVec3),
+    /// An E57 scan's station: where its scanner stood, with its heading. The command line
+    /// turns it into [`CameraChoice::At`] and a yaw from the file's poses
+    /// ([`crate::tour::stations`]) before placement, which takes an unresolved one as `Auto`.
+    Station(StationPick),
+}
+
+/// Which stations `--camera station:..` asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StationPick {
+    /// Scan N's station (from 0).
+    Index(usize),
+    /// Every station, one panorama each.
+    All,
 }
 
 impl CameraChoice {
@@ -81,17 +94,29 @@ impl CameraChoice {
     pub fn given(self) -> Option<DVec3> {
         match self {
             CameraChoice::At(c) => Some(c),
-            CameraChoice::Auto | CameraChoice::Center => None,
+            CameraChoice::Auto | CameraChoice::Center | CameraChoice::Station(_) => None,
         }
     }
 }
 
-/// `auto`, `center` (or `centre`), or `X,Y,Z` in file coordinates.
+/// `auto`, `center` (or `centre`), `X,Y,Z` in file coordinates, `station:N` or
+/// `station:all`.
 impl FromStr for CameraChoice {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, String> {
         let t = s.trim();
+        if let Some(which) = t.strip_prefix("station:") {
+            if which.eq_ignore_ascii_case("all") {
+                return Ok(CameraChoice::Station(StationPick::All));
+            }
+            return which
+                .parse()
+                .map(|n| CameraChoice::Station(StationPick::Index(n)))
+                .map_err(|_| {
+                    format!("expected station:N (a scan number from 0) or station:all, got `{s}`")
+                });
+        }
         if t.eq_ignore_ascii_case("auto") {
             return Ok(CameraChoice::Auto);
         }
@@ -101,7 +126,8 @@ impl FromStr for CameraChoice {
         let parts: Vec<&str> = t.split(',').collect();
         if parts.len() != 3 {
             return Err(format!(
-                "expected `auto`, `center` or X,Y,Z (three comma-separated numbers), got `{s}`"
+                "expected `auto`, `center`, X,Y,Z (three comma-separated numbers) or \
+                 station:N|all, got `{s}`"
             ));
         }
         let mut v = [0.0; 3];
@@ -444,6 +470,15 @@ mod tests {
             assert!(e.contains('`'), "{bad}: {e}");
         }
         assert_eq!(CameraChoice::default(), CameraChoice::Auto);
+        assert_eq!(
+            "station:2".parse(),
+            Ok(CameraChoice::Station(StationPick::Index(2)))
+        );
+        assert_eq!(
+            "station:ALL".parse(),
+            Ok(CameraChoice::Station(StationPick::All))
+        );
+        assert!("station:x".parse::<CameraChoice>().is_err());
         assert_eq!(CameraChoice::Center.given(), None);
     }
 

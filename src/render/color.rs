@@ -18,6 +18,9 @@ pub enum ColorMode {
     Elevation,
     /// One light grey.
     Flat,
+    /// E57: each point's colour from the photos its own station took (the file is read as
+    /// `FILE#color:image`, whose colour is then the scene's RGB), intensity where none sees it.
+    Image,
 }
 
 /// `auto`, `rgb`, `intensity`, `classification`, `elevation` or `flat`.
@@ -63,6 +66,7 @@ impl ColorRule {
         let mode = match mode {
             ColorMode::Auto if a.rgb.is_some() => ColorMode::Rgb,
             ColorMode::Auto => ColorMode::Elevation,
+            ColorMode::Image => ColorMode::Rgb,
             m => m,
         };
         let range = match mode {
@@ -87,7 +91,7 @@ impl ColorRule {
         let a = &scene.attributes;
         let missing = |attribute| MissingAttribute::in_scene(scene, attribute);
         Ok(match self.mode {
-            ColorMode::Rgb => match &a.rgb {
+            ColorMode::Rgb | ColorMode::Image => match &a.rgb {
                 Some(rgb) => rgb.clone(),
                 None => return Err(missing("RGB colour")),
             },

@@ -13,6 +13,7 @@ pub mod poses;
 pub mod run;
 pub mod shard;
 pub mod spline;
+pub mod stations;
 
 use std::path::{Path, PathBuf};
 
@@ -33,8 +34,8 @@ pub use shard::{Shard, ShardChoice, ShardSource};
 pub struct TourRequest {
     /// The scan.
     pub scan: PathBuf,
-    /// The path file (CSV or GeoJSON).
-    pub path: PathBuf,
+    /// Where the frames stand: along a path file's curve, or at an E57 survey's stations.
+    pub route: Route,
     /// How the scan is read (its `camera` and `origin` are the tour's to set).
     pub prepare: PrepareOptions,
     /// Eye height above the ground where the path gives no z, file units: the one given, or
@@ -51,6 +52,25 @@ pub struct TourRequest {
     pub pitch_offset: f64,
     /// Degrees added to every frame's roll.
     pub roll_offset: f64,
+}
+
+/// Where a tour's frames stand.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Route {
+    /// Along the curve through a path file's keyframes (CSV or GeoJSON).
+    Path(PathBuf),
+    /// One frame at each station of the E57 scan, with the station's heading.
+    Stations,
+}
+
+impl std::fmt::Display for Route {
+    /// The path file, or `stations`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Route::Path(p) => write!(f, "{}", p.display()),
+            Route::Stations => f.write_str("stations"),
+        }
+    }
 }
 
 /// A tour laid out on a loaded scan.
@@ -81,6 +101,9 @@ pub enum TourError {
     /// The scan could not be read.
     #[error(transparent)]
     Prepare(#[from] PrepareError),
+    /// The scan's stations could not be read.
+    #[error(transparent)]
+    Stations(#[from] stations::StationError),
     /// The path is readable but not usable on this scan.
     #[error("{}: {message}", path.display())]
     BadPath {
@@ -101,7 +124,10 @@ pub enum TourError {
 /// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
 /// keyframe outside the scan's bounds, and the scan's loading errors.
 pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
-    let file = &request.path;
+    let file = match &request.route {
+        Route::Path(file) => file,
+        Route::Stations => return plan_stations(request, progress),
+    };
     let bad = |message: String| TourError::BadPath {
         path: file.clone(),
         message,
@@ -231,6 +257,53 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         eye_height: height,
         poses,
         load_report,
+    })
+}
+
+/// One frame at each station of the scan (those its `#scan:` pick names), each with its
+/// station's heading plus the request's offsets; the scan loaded once around the stations'
+/// centre (in whole metres). Arc lengths run along the straight legs between stations.
+fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
+    let stations = stations::read_stations(&request.scan)?;
+    let (lo, hi) = stations
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s.position), hi.max(s.position))
+        });
+    let origin = ((lo + hi) * 0.5).round();
+    let options = PrepareOptions {
+        origin: Some(origin),
+        camera: crate::prepare::CameraChoice::At(origin),
+        ..request.prepare
+    };
+    let prepared = prepare(&request.scan, &options, progress)?;
+    let mut arc_length = 0.0;
+    let mut previous = stations.first().map(|s| s.position);
+    let poses = stations
+        .iter()
+        .map(|s| {
+            arc_length += previous.map_or(0.0, |p| p.distance(s.position));
+            previous = Some(s.position);
+            Pose {
+                position: s.position.to_array(),
+                yaw: poses::wrap_degrees(s.yaw + request.yaw_offset),
+                pitch: request.pitch_offset,
+                roll: request.roll_offset,
+                arc_length,
+            }
+        })
+        .collect();
+    let eye_height = request
+        .height
+        .over(crate::prepare::radius::median_spacing(&prepared.scene));
+    Ok(Tour {
+        scene: prepared.scene,
+        origin,
+        keyframes: stations.iter().map(|s| s.position).collect(),
+        length: arc_length,
+        eye_height,
+        poses,
+        load_report: prepared.report,
     })
 }
 

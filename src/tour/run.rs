@@ -156,7 +156,7 @@ pub fn manifest(request: &TourRequest, tour: &Tour, options: &RunOptions) -> Tou
     TourManifest {
         version: MANIFEST_VERSION,
         scan: request.scan.display().to_string(),
-        path: request.path.display().to_string(),
+        path: request.route.to_string(),
         fps: options.fps,
         speed: match request.sampling {
             super::Sampling::Speed { speed, .. } => Some(speed),
