@@ -2,6 +2,7 @@
 //! positions on, and ODS pairs rendered live as the page asks (camera, IPD, pole merging),
 //! shown by the viewer's page code, in VR too.
 
+pub mod live;
 pub mod map;
 pub mod queue;
 pub mod render_thread;
@@ -13,7 +14,10 @@ mod server;
 use std::path::PathBuf;
 
 pub use map::{MapGrid, render_map};
-pub use render_thread::{LiveFrame, RenderFailure, RenderThread, live_settings};
+pub use live::StreamOptions;
+pub use render_thread::{
+    LiveFrame, RawFrame, RenderFailure, RenderQueue, RenderThread, live_settings,
+};
 pub use request::{CameraLimits, RenderRequest};
 pub use scan::{LiveOptions, LiveScan, ScanInfo};
 pub use server::LiveServer;
