@@ -38,6 +38,10 @@ pub struct LiveFrame {
     pub elapsed: Duration,
 }
 
+/// How far (metres) the live stream's camera may stand from the points' anchor before they
+/// are placed again.
+const KEEP_ANCHOR_METRES: f64 = 100.0;
+
 /// A finished render not yet encoded (the live stream encodes it while the next renders).
 #[derive(Debug, Clone)]
 pub struct RawFrame {
@@ -180,7 +184,8 @@ impl RenderThread {
                         asked: Some((first.xy, None, camera)),
                     };
                     while let Some(job) = queue.take() {
-                        let raw = renderer.answer(&job.request, job.width);
+                        let keep_anchor = matches!(job.reply, Answer::Raw(_));
+                        let raw = renderer.answer(&job.request, job.width, keep_anchor);
                         // The asker may have given up (its client went away): no matter.
                         match job.reply {
                             Answer::Raw(tx) => drop(tx.send(raw)),
@@ -271,8 +276,15 @@ struct Renderer<'a> {
 impl Renderer<'_> {
     /// Renders `request`; a panic in the renderer becomes a failure, and the next request
     /// uploads afresh.
-    fn answer(&mut self, request: &RenderRequest, width: u32) -> Result<RawFrame, RenderFailure> {
-        let result = std::panic::catch_unwind(AssertUnwindSafe(|| self.render(request, width)));
+    fn answer(
+        &mut self,
+        request: &RenderRequest,
+        width: u32,
+        keep_anchor: bool,
+    ) -> Result<RawFrame, RenderFailure> {
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            self.render(request, width, keep_anchor)
+        }));
         let answer = match result {
             Ok(answer) => answer,
             Err(panic) => Err(RenderFailure::Failed(
@@ -290,7 +302,15 @@ impl Renderer<'_> {
         answer
     }
 
-    fn render(&mut self, request: &RenderRequest, width: u32) -> Result<RawFrame, RenderFailure> {
+    /// Renders `request` at `width`; `keep_anchor`: the points stay where they are when the
+    /// camera is near them (the live stream), else they are placed at the camera, so that a
+    /// render is the library's render there bit for bit (`/api/render`).
+    fn render(
+        &mut self,
+        request: &RenderRequest,
+        width: u32,
+        keep_anchor: bool,
+    ) -> Result<RawFrame, RenderFailure> {
         let started = Instant::now();
         let scan = self.scan;
         let failed = |e: &dyn std::fmt::Display| RenderFailure::Failed(e.to_string());
@@ -312,10 +332,17 @@ impl Renderer<'_> {
         };
         let mut settings = live_settings(scan, camera, request);
         settings.image = Image::equirect(width);
+        // A walk keeps the points where they are while the camera stays near them: the
+        // upload is most of a small frame's time, and f32 offsets stay within a fraction of
+        // a millimetre over the distance.
+        let near = self.resident.anchor().position().distance(camera)
+            < KEEP_ANCHOR_METRES * scan.options.per_metre;
         self.asked = None;
-        self.resident
-            .place(Anchor::Camera(camera))
-            .map_err(|e| failed(&e))?;
+        if !(keep_anchor && near) {
+            self.resident
+                .place(Anchor::Camera(camera))
+                .map_err(|e| failed(&e))?;
+        }
         self.asked = Some((request.xy, request.height, camera));
         let rendered = self
             .resident
