@@ -61,12 +61,21 @@ struct Walk {
 }
 
 /// Walks for `seconds`: a pose every 33 ms along X through `start`, `step` file units a pose.
-fn walk(addr: SocketAddr, start: [f64; 3], half: f64, step: f64, seconds: f64, offset: f64) -> Walk {
+fn walk(
+    addr: SocketAddr,
+    start: [f64; 3],
+    half: f64,
+    step: f64,
+    seconds: f64,
+    offset: f64,
+) -> Walk {
     let stream = TcpStream::connect(addr).unwrap();
     let url = format!("ws://127.0.0.1:{}/api/live", addr.port());
     let mut ws = tungstenite::client(url.as_str(), stream).unwrap().0;
     // Reads wait briefly so that poses go out on time.
-    ws.get_ref().set_read_timeout(Some(Duration::from_millis(2))).unwrap();
+    ws.get_ref()
+        .set_read_timeout(Some(Duration::from_millis(2)))
+        .unwrap();
     let started = Instant::now();
     let mut sent: Vec<Instant> = vec![started];
     let mut next_pose = started;
@@ -82,7 +91,11 @@ fn walk(addr: SocketAddr, start: [f64; 3], half: f64, step: f64, seconds: f64, o
             let seq = sent.len() as u64;
             // Back and forth over [-half, half] around the start.
             let t = (seq as f64 * step + offset).rem_euclid(4.0 * half);
-            let dx = if t < 2.0 * half { t - half } else { 3.0 * half - t };
+            let dx = if t < 2.0 * half {
+                t - half
+            } else {
+                3.0 * half - t
+            };
             let pose = format!(
                 r#"{{"seq": {seq}, "x": {}, "y": {}, "yaw": 90}}"#,
                 start[0] + dx,
@@ -122,7 +135,11 @@ fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let info = omnicloud::io::read_info(&args.file)?;
     let scale = LengthScale::for_info(&info, Units::Metres, omnicloud::io::Up::Z);
-    let prepared = prepare(&args.file, &PrepareOptions::default(), &ProgressBar::hidden())?;
+    let prepared = prepare(
+        &args.file,
+        &PrepareOptions::default(),
+        &ProgressBar::hidden(),
+    )?;
     let options = LiveOptions {
         width: args.width,
         height: scale.height(1.7),
@@ -150,7 +167,9 @@ fn main() -> anyhow::Result<()> {
     let lo = server.scan().limits.lo;
     let hi = server.scan().limits.hi;
     // Half the walk: a fifth of the scan's width, within it.
-    let half = ((hi.x - lo.x) / 5.0).min(start[0] - lo.x).min(hi.x - start[0]);
+    let half = ((hi.x - lo.x) / 5.0)
+        .min(start[0] - lo.x)
+        .min(hi.x - start[0]);
     let step = scale.length(1.4) * 0.033;
     let addr = server.addr();
     let running = server.spawn();
@@ -194,11 +213,22 @@ fn time_encoders(scan: LiveScan, width: u32) -> anyhow::Result<()> {
     let scan = std::sync::Arc::new(scan);
     let thread = RenderThread::start(scan.clone(), omnicloud::render::RendererKind::Raster)?;
     let request = RenderRequest::default_at(&scan.limits);
-    let raw = thread.queue().submit(request, width).recv()?.map_err(anyhow::Error::msg)?;
+    let raw = thread
+        .queue()
+        .submit(request, width)
+        .recv()?
+        .map_err(anyhow::Error::msg)?;
     let frame = &raw.frame;
-    println!("one {}x{} top-bottom pair, quality 80, best of 5:", frame.width, frame.height);
-    type Encoder = fn(&omnicloud::Frame, u8) -> Result<Vec<u8>, omnicloud::web::serve::live::jpeg::JpegError>;
-    let encoders: [(&str, Encoder); 2] = [("jpeg-encoder (SIMD)", encode_jpeg), ("image crate", encode_jpeg_image_crate)];
+    println!(
+        "one {}x{} top-bottom pair, quality 80, best of 5:",
+        frame.width, frame.height
+    );
+    type Encoder =
+        fn(&omnicloud::Frame, u8) -> Result<Vec<u8>, omnicloud::web::serve::live::jpeg::JpegError>;
+    let encoders: [(&str, Encoder); 2] = [
+        ("jpeg-encoder (SIMD)", encode_jpeg),
+        ("image crate", encode_jpeg_image_crate),
+    ];
     for (name, encode) in encoders {
         let mut best = f64::INFINITY;
         let mut bytes = 0;

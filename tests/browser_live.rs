@@ -27,9 +27,13 @@ const WIDTH: u32 = 256;
 
 fn set_up() -> Option<(Chromium, Running)> {
     let path = chromium()?;
-    let scene = prepare(&sample(), &PrepareOptions::default(), &ProgressBar::hidden())
-        .unwrap()
-        .scene;
+    let scene = prepare(
+        &sample(),
+        &PrepareOptions::default(),
+        &ProgressBar::hidden(),
+    )
+    .unwrap()
+    .scene;
     let stream = StreamOptions {
         scale: LiveScale::Full,
         ..StreamOptions::default()
@@ -42,11 +46,19 @@ fn set_up() -> Option<(Chromium, Running)> {
 fn open_walk(chromium: &Chromium, server: &Running, init: Option<&str>) -> Arc<Tab> {
     let tab = open_viewer(chromium, &format!("http://{}/", server.addr()), init);
     let ready = js(&tab, "walk.ready.then(() => 'ok', (e) => 'error: ' + e)");
-    assert_eq!(ready, "ok", "the page did not start: {}", js(&tab, "walk.error"));
+    assert_eq!(
+        ready,
+        "ok",
+        "the page did not start: {}",
+        js(&tab, "walk.error")
+    );
     // Every frame shown from now on, in order.
-    js(&tab, "(() => { window.__shown = []; const show = viewer.showImage; \
+    js(
+        &tab,
+        "(() => { window.__shown = []; const show = viewer.showImage; \
               viewer.showImage = (image, kind) => { if (walk.last) __shown.push(walk.last); \
-              return show(image, kind); }; })()");
+              return show(image, kind); }; })()",
+    );
     tab
 }
 
@@ -103,7 +115,12 @@ fn holding_w_walks_forward_along_the_heading() {
     assert_eq!(f(&start["camera"][0]), x0);
     js(&tab, "__shown.length = 0");
 
-    key(&tab, Input::DispatchKeyEventTypeOption::KeyDown, "w", "KeyW");
+    key(
+        &tab,
+        Input::DispatchKeyEventTypeOption::KeyDown,
+        "w",
+        "KeyW",
+    );
     std::thread::sleep(Duration::from_millis(2500));
     key(&tab, Input::DispatchKeyEventTypeOption::KeyUp, "w", "KeyW");
     let end = settled(&tab);
@@ -114,7 +131,11 @@ fn holding_w_walks_forward_along_the_heading() {
         .iter()
         .filter(|h| !h["still"].as_bool().unwrap())
         .collect();
-    assert!(moving.len() >= 3, "only {} frames while walking: {shown}", moving.len());
+    assert!(
+        moving.len() >= 3,
+        "only {} frames while walking: {shown}",
+        moving.len()
+    );
     // East: x grows frame after frame, y stays.
     let xs: Vec<f64> = moving.iter().map(|h| f(&h["camera"][0])).collect();
     assert!(xs.windows(2).all(|w| w[1] > w[0]), "{xs:?}");
@@ -125,21 +146,35 @@ fn holding_w_walks_forward_along_the_heading() {
     // 1.4 m/s for 2.5 s in feet, give or take the frames the page drew.
     let walked = f(&end["camera"][0]) - x0;
     let expected = 1.4 * 2.5 / 0.3048;
-    assert!(walked > 0.5 * expected && walked < 1.5 * expected, "walked {walked} ft");
+    assert!(
+        walked > 0.5 * expected && walked < 1.5 * expected,
+        "walked {walked} ft"
+    );
     // The page's pose, the server's camera, the readout and the link agree.
     assert_eq!(f(&end["camera"][0]), f(&js(&tab, "walk.x")));
     let link = js(&tab, "document.getElementById('link').getAttribute('href')");
-    assert!(link.as_str().unwrap().contains(&format!("x={:.2}", f(&end["camera"][0]))), "{link}");
+    assert!(
+        link.as_str()
+            .unwrap()
+            .contains(&format!("x={:.2}", f(&end["camera"][0]))),
+        "{link}"
+    );
     assert!(link.as_str().unwrap().ends_with("yaw=90.0"), "{link}");
     let readout = js(&tab, "document.getElementById('walk').textContent");
-    assert!(readout.as_str().unwrap().contains("heading 90°"), "{readout}");
+    assert!(
+        readout.as_str().unwrap().contains("heading 90°"),
+        "{readout}"
+    );
 
     // The link opens the same view in a new page.
     let url = format!("http://{}/{}", server.addr(), link.as_str().unwrap());
     let again = open_viewer(&chromium, &url, None);
     js(&again, "walk.ready");
     let reopened = settled(&again);
-    assert!((f(&reopened["camera"][0]) - f(&end["camera"][0])).abs() < 0.01, "{reopened}");
+    assert!(
+        (f(&reopened["camera"][0]) - f(&end["camera"][0])).abs() < 0.01,
+        "{reopened}"
+    );
     assert!((f(&js(&again, "viewer.view().yaw")) - 90.0).abs() < 1e-9);
 }
 
@@ -154,8 +189,14 @@ fn in_vr_the_left_thumbstick_walks_where_the_head_looks() {
     js(&tab, &format!("walk.standAt({x0}, {y0}, 0)"));
     settled(&tab);
     tab.find_element("#toggle-panel").unwrap().click().unwrap();
-    tab.wait_for_element("#enter-vr:not([disabled])").unwrap().click().unwrap();
-    js(&tab, "new Promise((r) => { const w = () => window.__xr.frames >= 3 ? r(1) : setTimeout(w, 20); w(); })");
+    tab.wait_for_element("#enter-vr:not([disabled])")
+        .unwrap()
+        .click()
+        .unwrap();
+    js(
+        &tab,
+        "new Promise((r) => { const w = () => window.__xr.frames >= 3 ? r(1) : setTimeout(w, 20); w(); })",
+    );
     // Push the left stick forward (xr-standard: axis 3 negative) for two seconds.
     js(&tab, "window.__xr.left[3] = -1");
     std::thread::sleep(Duration::from_millis(2000));

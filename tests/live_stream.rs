@@ -119,7 +119,10 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
         pose(&mut client, k, x, cy, "");
         let (h, image) = frame(&mut client);
         assert_eq!((h.seq, h.camera[0], h.camera[1]), (k, x, cy), "{h:?}");
-        assert_eq!((h.width, h.height, h.format.as_str()), (WIDTH, WIDTH, "jpeg"));
+        assert_eq!(
+            (h.width, h.height, h.format.as_str()),
+            (WIDTH, WIDTH, "jpeg")
+        );
         assert_eq!((h.yaw, h.still, h.quality), (90.0, false, 80));
         assert_eq!(image.dimensions(), (WIDTH, WIDTH));
         assert!(h.render_ms > 0.0 && h.encode_ms > 0.0, "{h:?}");
@@ -130,9 +133,15 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
             assert_eq!(png.status, 200);
             let png = image::load_from_memory(&png.body).unwrap().to_rgb8();
             let d = mean_difference(&image, &png);
-            assert!(d < 4.0, "the frame differs from the render by {d} per channel");
+            assert!(
+                d < 4.0,
+                "the frame differs from the render by {d} per channel"
+            );
             // The eyes differ (the lower half is the right eye's, not a copy).
-            let (top, bottom) = (image.view(0, 0, WIDTH, WIDTH / 2), image.view(0, WIDTH / 2, WIDTH, WIDTH / 2));
+            let (top, bottom) = (
+                image.view(0, 0, WIDTH, WIDTH / 2),
+                image.view(0, WIDTH / 2, WIDTH, WIDTH / 2),
+            );
             let eyes = mean_difference(&top.to_image(), &bottom.to_image());
             assert!(eyes > 0.5, "the eyes differ by only {eyes}");
         }
@@ -154,7 +163,10 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
         seqs.push(h.seq);
     }
     assert!(seqs.windows(2).all(|w| w[0] < w[1]), "{seqs:?}");
-    assert!(seqs.len() <= 4, "a queue of stale poses was rendered: {seqs:?}");
+    assert!(
+        seqs.len() <= 4,
+        "a queue of stale poses was rendered: {seqs:?}"
+    );
     let (still, _) = frame(&mut client);
     assert_eq!((still.seq, still.still), (24, true));
 
@@ -169,7 +181,10 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
     let low = frame(&mut client).0.camera[2];
     pose(&mut client, 27, x, y, r#", "height": 4.7"#);
     let high = frame(&mut client).0.camera[2];
-    assert!(((high - low) - (4.7 / 0.3048 - 1.7)).abs() < 1e-6, "{low} → {high}");
+    assert!(
+        ((high - low) - (4.7 / 0.3048 - 1.7)).abs() < 1e-6,
+        "{low} → {high}"
+    );
 }
 
 /// Sends `message` on a fresh connection and returns the close frame's code and reason.
@@ -198,9 +213,16 @@ fn malformed_messages_close_only_their_connection_with_a_reason() {
     assert_eq!(frame(&mut good).0.seq, 1);
 
     let text = |s: &str| Message::text(s.to_owned());
-    let huge = format!(r#"{{"seq": 1, "x": {cx}, "y": {cy}, "yaw": 0, "pad": "{}"}}"#, "x".repeat(10_000));
+    let huge = format!(
+        r#"{{"seq": 1, "x": {cx}, "y": {cy}, "yaw": 0, "pad": "{}"}}"#,
+        "x".repeat(10_000)
+    );
     let cases = [
-        (text("{\"seq\": 1, \"x\":"), CloseCode::Invalid, "not a pose"),
+        (
+            text("{\"seq\": 1, \"x\":"),
+            CloseCode::Invalid,
+            "not a pose",
+        ),
         (
             text(&format!(r#"{{"seq": 2, "x": NaN, "y": {cy}, "yaw": 0}}"#)),
             CloseCode::Invalid,
@@ -253,7 +275,10 @@ fn a_client_that_stops_reading_is_dropped_and_another_keeps_receiving() {
         let mut client = connect(addr);
         let started = Instant::now();
         for seq in 1.. {
-            let text = format!(r#"{{"seq": {seq}, "x": {}, "y": {cy}, "yaw": 0}}"#, cx + (seq % 50) as f64);
+            let text = format!(
+                r#"{{"seq": {seq}, "x": {}, "y": {cy}, "yaw": 0}}"#,
+                cx + (seq % 50) as f64
+            );
             if client.send(Message::text(text)).is_err() {
                 return Some((seq, started.elapsed()));
             }
@@ -284,7 +309,12 @@ fn a_client_that_stops_reading_is_dropped_and_another_keeps_receiving() {
             }
         }
     }
-    let (poses, took) = stalled.join().unwrap().expect("the stalled client was never dropped");
-    eprintln!("the stalled client was dropped after {poses} poses, {took:?}; the reader got {received} frames");
+    let (poses, took) = stalled
+        .join()
+        .unwrap()
+        .expect("the stalled client was never dropped");
+    eprintln!(
+        "the stalled client was dropped after {poses} poses, {took:?}; the reader got {received} frames"
+    );
     assert!(received > 3);
 }

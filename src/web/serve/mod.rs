@@ -13,8 +13,8 @@ mod server;
 
 use std::path::PathBuf;
 
-pub use map::{MapGrid, render_map};
 pub use live::StreamOptions;
+pub use map::{MapGrid, render_map};
 pub use render_thread::{
     LiveFrame, RawFrame, RenderFailure, RenderQueue, RenderThread, live_settings,
 };

@@ -321,12 +321,12 @@ impl Renderer<'_> {
                 camera
             }
             _ => {
-                let world = scan
-                    .camera_at_height(request.xy, request.height)
-                    .ok_or(RenderFailure::NoGround {
+                let world = scan.camera_at_height(request.xy, request.height).ok_or(
+                    RenderFailure::NoGround {
                         x: request.xy.x,
                         y: request.xy.y,
-                    })?;
+                    },
+                )?;
                 world - scan.scene.origin
             }
         };

@@ -123,7 +123,13 @@ mod tests {
         let link = route("GET", "/?x=101.5&y=202&yaw=90.0", &scan, &echo);
         assert_eq!(link.body, Body::Static(assets::SERVE_HTML));
         assert_eq!(route("GET", "/?zoom=2", &scan, &echo).status, 400);
-        for path in ["/viewer.js", "/serve.js", "/live.js", "/api/scan", "/map.png"] {
+        for path in [
+            "/viewer.js",
+            "/serve.js",
+            "/live.js",
+            "/api/scan",
+            "/map.png",
+        ] {
             assert_eq!(route("GET", path, &scan, &echo).status, 200, "{path}");
         }
         let Body::Text(json) = route("GET", "/api/scan", &scan, &echo).body else {

@@ -116,7 +116,10 @@ fn live(
         if let Some(origin) = header("Origin") {
             let origin_host = origin.split_once("://").map_or("", |(_, rest)| rest);
             if host.as_deref() != Some(origin_host) {
-                return refuse(StatusCode::FORBIDDEN, "a page of another origin may not stream");
+                return refuse(
+                    StatusCode::FORBIDDEN,
+                    "a page of another origin may not stream",
+                );
             }
         }
         if request.uri().path() != "/api/live" {

@@ -41,7 +41,11 @@ pub fn encode_jpeg(frame: &Frame, quality: u8) -> Result<Vec<u8>, JpegError> {
 /// # Errors
 /// The encoder refused the frame.
 pub fn encode_jpeg_image_crate(frame: &Frame, quality: u8) -> Result<Vec<u8>, JpegError> {
-    let rgb: Vec<u8> = frame.color.iter().flat_map(|c| [c[0], c[1], c[2]]).collect();
+    let rgb: Vec<u8> = frame
+        .color
+        .iter()
+        .flat_map(|c| [c[0], c[1], c[2]])
+        .collect();
     let mut out = Vec::new();
     image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, quality.clamp(1, 100))
         .encode(

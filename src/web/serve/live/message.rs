@@ -88,7 +88,11 @@ mod tests {
         assert_eq!(json["format"], "jpeg");
         let (back, image) = split_frame(&message).unwrap();
         assert_eq!((back, image), (header, &b"\xff\xd8image"[..]));
-        assert!(split_frame(&message[..10]).unwrap_err().contains("only 6 follow"));
+        assert!(
+            split_frame(&message[..10])
+                .unwrap_err()
+                .contains("only 6 follow")
+        );
         assert!(split_frame(b"ab").is_err());
     }
 }

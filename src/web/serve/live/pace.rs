@@ -125,9 +125,18 @@ mod tests {
         p.after(40.0, 10.0);
         assert_eq!(p.quality(), 55);
         p.after(40.0, 30.0);
-        assert_eq!(p.quality(), 55, "between a quarter and half the budget: kept");
+        assert_eq!(
+            p.quality(),
+            55,
+            "between a quarter and half the budget: kept"
+        );
         assert_eq!("auto".parse(), Ok(LiveScale::Auto));
         assert_eq!("1".parse(), Ok(LiveScale::Full));
-        assert!("0.5".parse::<LiveScale>().unwrap_err().contains("`auto` or `1`"));
+        assert!(
+            "0.5"
+                .parse::<LiveScale>()
+                .unwrap_err()
+                .contains("`auto` or `1`")
+        );
     }
 }

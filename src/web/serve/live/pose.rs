@@ -80,7 +80,9 @@ pub fn parse_pose(text: &str, limits: &PoseLimits) -> Result<Pose, PoseError> {
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(PoseError::Invalid(format!("{key}={v}: not a finite number")))
+            Err(PoseError::Invalid(format!(
+                "{key}={v}: not a finite number"
+            )))
         }
     };
     let outside = PoseError::Outside;
@@ -144,8 +146,14 @@ mod tests {
         )
         .unwrap();
         assert_eq!(p.request.xy, DVec2::new(150.5, 399.0));
-        assert_eq!((p.request.z, p.request.seq, p.request.ipd), (Some(12.5), 9, 0.07));
-        assert!((p.request.height.unwrap() - 10.0).abs() < 1e-9, "3.048 m in feet");
+        assert_eq!(
+            (p.request.z, p.request.seq, p.request.ipd),
+            (Some(12.5), 9, 0.07)
+        );
+        assert!(
+            (p.request.height.unwrap() - 10.0).abs() < 1e-9,
+            "3.048 m in feet"
+        );
         assert_eq!((p.yaw, p.pitch), (270.0, 10.0));
         let d = parse_pose(r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0}"#, &LIMITS).unwrap();
         assert_eq!((d.request.z, d.request.height), (None, None));
@@ -156,17 +164,61 @@ mod tests {
     fn bad_poses_are_refused_with_their_close_code_and_field() {
         let cases = [
             ("{", 1007, "EOF while parsing"),
-            (r#"{"seq": 1, "x": NaN, "y": 300, "yaw": 0}"#, 1007, "not a pose"),
-            (r#"{"seq": 1, "x": 1e400, "y": 300, "yaw": 0}"#, 1007, "not a pose"),
-            (r#"{"seq": 1, "x": 200, "y": 300}"#, 1007, "missing field `yaw`"),
-            (r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "zoom": 2}"#, 1007, "unknown field `zoom`"),
-            (r#"{"seq": -1, "x": 200, "y": 300, "yaw": 0}"#, 1007, "not a pose"),
-            (r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "pitch": 91}"#, 1007, "pitch=91"),
-            (r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "ipd": -1}"#, 1007, "ipd=-1"),
-            (r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "height": -2}"#, 1007, "height=-2"),
-            (r#"{"seq": 1, "x": 99, "y": 300, "yaw": 0}"#, 1008, "x=99: the camera must stand"),
-            (r#"{"seq": 1, "x": 200, "y": 401, "yaw": 0}"#, 1008, "y from 200.000"),
-            (r#"{"seq": 1, "x": 200, "y": 300, "z": 251, "yaw": 0}"#, 1008, "z=251"),
+            (
+                r#"{"seq": 1, "x": NaN, "y": 300, "yaw": 0}"#,
+                1007,
+                "not a pose",
+            ),
+            (
+                r#"{"seq": 1, "x": 1e400, "y": 300, "yaw": 0}"#,
+                1007,
+                "not a pose",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300}"#,
+                1007,
+                "missing field `yaw`",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "zoom": 2}"#,
+                1007,
+                "unknown field `zoom`",
+            ),
+            (
+                r#"{"seq": -1, "x": 200, "y": 300, "yaw": 0}"#,
+                1007,
+                "not a pose",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "pitch": 91}"#,
+                1007,
+                "pitch=91",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "ipd": -1}"#,
+                1007,
+                "ipd=-1",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0, "height": -2}"#,
+                1007,
+                "height=-2",
+            ),
+            (
+                r#"{"seq": 1, "x": 99, "y": 300, "yaw": 0}"#,
+                1008,
+                "x=99: the camera must stand",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 401, "yaw": 0}"#,
+                1008,
+                "y from 200.000",
+            ),
+            (
+                r#"{"seq": 1, "x": 200, "y": 300, "z": 251, "yaw": 0}"#,
+                1008,
+                "z=251",
+            ),
         ];
         for (text, code, expected) in cases {
             let e = parse_pose(text, &LIMITS).unwrap_err();
