@@ -84,6 +84,8 @@ fn opens_live(client: &TcpStream) -> bool {
 
 /// The WebSocket handshake (refusing a foreign `Host` on a loopback server, and a page of
 /// another origin), then the stream.
+// The handshake callback's error type is tungstenite's, large or not.
+#[allow(clippy::result_large_err)]
 fn live(
     client: TcpStream,
     name: String,
