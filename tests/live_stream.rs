@@ -128,7 +128,7 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
         assert!(h.render_ms > 0.0 && h.encode_ms > 0.0, "{h:?}");
         if k == 4 {
             // The same picture `/api/render` renders there (top-bottom, left eye on top), but
-            // for JPEG's loss: measured 2.3 per channel at quality 80.
+            // for JPEG's loss: measured 1.44 per channel at quality 80.
             let png = http_common::get(addr, &format!("/api/render?x={x}&y={cy}"));
             assert_eq!(png.status, 200);
             let png = image::load_from_memory(&png.body).unwrap().to_rgb8();
@@ -137,13 +137,14 @@ fn poses_get_frames_of_their_camera_and_a_burst_renders_only_the_newest() {
                 d < 4.0,
                 "the frame differs from the render by {d} per channel"
             );
-            // The eyes differ (the lower half is the right eye's, not a copy).
+            // The eyes differ (the lower half is the right eye's, not a copy; identical halves
+            // encode alike, 8-pixel blocks aligned): measured 1.91 per channel.
             let (top, bottom) = (
                 image.view(0, 0, WIDTH, WIDTH / 2),
                 image.view(0, WIDTH / 2, WIDTH, WIDTH / 2),
             );
             let eyes = mean_difference(&top.to_image(), &bottom.to_image());
-            assert!(eyes > 0.5, "the eyes differ by only {eyes}");
+            assert!(eyes > 1.0, "the eyes differ by only {eyes}");
         }
     }
     // At rest: one still pair of the last pose, at the highest quality.

@@ -92,7 +92,7 @@ mod tests {
                 .max()
                 .unwrap();
             // Measured: 3 for both at quality 90 on this smooth gradient.
-            assert!(worst <= 8, "{name}: worst channel error {worst}");
+            assert!(worst <= 5, "{name}: worst channel error {worst}");
         }
         let low = encode_jpeg(&frame, 30).unwrap().len();
         assert!(low < encode_jpeg(&frame, 95).unwrap().len());
