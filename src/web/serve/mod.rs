@@ -1,6 +1,7 @@
 //! `omnicloud serve`: a scan kept in memory and on the GPU, a top-down map to pick camera
 //! positions on, and ODS pairs rendered live as the page asks (camera, IPD, pole merging),
-//! shown by the viewer's page code, in VR too.
+//! shown by the viewer's page code, in VR too; and a live stream ([`live`]) of pairs for a
+//! client walking through the scan.
 
 pub mod live;
 pub mod map;

@@ -1,6 +1,8 @@
 //! The render thread: it owns the renderer chosen at run time with the scan resident
 //! ([`Resident`], created on the thread, so nothing GPU-side crosses threads). HTTP workers hand
-//! it requests through a [`LatestQueue`] and wait for their own answer on a channel.
+//! it requests through a [`LatestQueue`] and wait for their own answer on a channel (a PNG);
+//! the live stream's connections queue theirs through a [`RenderQueue`] and take the raw
+//! pair, to encode it themselves while the next one renders.
 //!
 //! The rasterizer's points live on the GPU relative to the camera (f32 keeps millimetres near
 //! the eye), so a new camera position places them again, keeping the rasterizer; IPD and
