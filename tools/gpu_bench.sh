@@ -2,8 +2,9 @@
 # The GPU benchmark, in one short run: Autzen (spheres 0.8 m across) and 5 M generated points,
 # ODS and mono at 3840×1920 per eye, every rasterizer mode on Autzen and the exact and the
 # paper's fastest mode on 5 M points, each with the median frame and the sustained frame rate
-# over many frames; the ODS runs also time a mono frame after each pair (the stereo / mono
-# column). Results (bench.md/csv/json and charts per run, plus summary.md naming the
+# over many frames, and the live stream (examples/live_bench, 1 and 4 walking clients at
+# LIVE_WIDTH, default 2048 per eye); the ODS runs also time a mono frame after each pair (the
+# stereo / mono column). Results (bench.md/csv/json and charts per run, plus summary.md naming the
 # adapter) go to OUT, which docs/BENCHMARKS.md quotes.
 #
 #   tools/gpu_bench.sh [OUT]            (default OUT: docs/bench/gpu)
@@ -22,16 +23,19 @@ width=${WIDTH:-3840}
 points=${POINTS:-5000000}
 frames=${FRAMES:-60}
 warmup=${WARMUP:-5}
+live_width=${LIVE_WIDTH:-2048}
 started=$SECONDS
 PATH=$PATH:/usr/sbin:/sbin
 
 if command -v cargo >/dev/null; then
-  cargo build --release --quiet --bin omnicloud --example gen_big_las
+  cargo build --release --quiet --bin omnicloud --example gen_big_las --example live_bench
   bin=target/release/omnicloud
   gen=target/release/examples/gen_big_las
+  live=target/release/examples/live_bench
 elif [ -x .gpu/bin/omnicloud ] && [ -x .gpu/bin/gen_big_las ]; then
   bin=.gpu/bin/omnicloud
   gen=.gpu/bin/gen_big_las
+  live=.gpu/bin/live_bench
 else
   echo "gpu_bench: no cargo here and no .gpu bundle: run tools/gpu_bundle.sh where Rust is" \
     "and carry .gpu" >&2
@@ -88,6 +92,12 @@ run autzen_ods  data/autzen_trim.laz ods  all   --radius 0.4
 run autzen_mono data/autzen_trim.laz none all   --radius 0.4
 run big_ods     "$big"               ods  $fast
 run big_mono    "$big"               none $fast
+# The live stream: walking clients (serve's --live-scale 1); a failure leaves its message.
+if [ -x "${live:-}" ]; then
+  echo "== live" >&2
+  "$live" data/autzen_trim.laz --width "$live_width" --clients 1,4 --seconds 20 \
+    > "$out/live.txt" 2>&1 || echo "live_bench failed" >> "$out/live.txt"
+fi
 
 {
   echo "# GPU benchmark"
@@ -112,6 +122,12 @@ for m in r["modes"]:
     print(f"| {sys.argv[2]} | {label} | {m['frame_ms']:.3f} | {m['fps']:.1f} | {m['sustained_fps']:.1f} | {ratio} | {m['accuracy']['coverage_mismatch']:.2e} |")
 PY
   done
+  if [ -f "$out/live.txt" ]; then
+    echo
+    echo "Live stream (\`examples/live_bench\`, Autzen, $live_width per eye, --live-scale 1):"
+    echo
+    sed 's/^/    /' "$out/live.txt"
+  fi
 } > "$out/summary.md"
 cat "$out/summary.md"
 echo "gpu_bench: done in $((SECONDS - started)) s" >&2

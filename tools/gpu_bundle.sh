@@ -8,10 +8,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-cargo build --release --quiet --bin omnicloud --example gen_big_las
+cargo build --release --quiet --bin omnicloud --example gen_big_las --example live_bench
 rm -rf .gpu
 mkdir -p .gpu/bin .gpu/debs
-for b in target/release/omnicloud target/release/examples/gen_big_las; do
+for b in target/release/omnicloud target/release/examples/gen_big_las \
+  target/release/examples/live_bench; do
   strip -o ".gpu/bin/$(basename "$b")" "$b"
 done
 

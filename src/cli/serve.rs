@@ -11,7 +11,8 @@ use crate::io::Up;
 use crate::prepare::{EyeHeight, LengthScale, PrepareOptions, RadiusChoice, Units, prepare};
 use crate::projection::Stereo;
 use crate::render::{ColorMode, Shading};
-use crate::web::serve::{LiveOptions, LiveScan, LiveServer};
+use crate::web::serve::live::LiveScale;
+use crate::web::serve::{LiveOptions, LiveScan, LiveServer, StreamOptions};
 
 use super::{parse, progress, view};
 
@@ -56,6 +57,10 @@ pub struct ServeArgs {
     /// Shading.
     #[arg(long, value_enum, ignore_case = true, default_value = "unlit")]
     pub shading: Shading,
+    /// Live stream (`/api/live`) while moving: `auto` lets the width drop (to a quarter at
+    /// most) when frames render slower than 10 a second, `1` keeps every frame at --width.
+    #[arg(long, default_value = "auto", value_name = "auto|1")]
+    pub live_scale: LiveScale,
     /// Also open the page in the default browser.
     #[arg(long)]
     pub open: bool,
@@ -111,7 +116,10 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         map_size: args.map_size,
     };
     let scan = LiveScan::new(&args.file, prepared.scene, live)?;
-    let server = LiveServer::bind(&args.host, args.port, scan)?;
+    let server = LiveServer::bind(&args.host, args.port, scan)?.with_stream(StreamOptions {
+        scale: args.live_scale,
+        ..StreamOptions::default()
+    });
     let max = server.renderer().max_width();
     if args.width > max {
         bail!(

@@ -13,3 +13,7 @@ pub const SERVE_HTML: &str = include_str!("assets/serve.html");
 /// `serve`'s page logic: map clicks and sliders to render requests, renders to the viewer.
 #[cfg(feature = "gpu")]
 pub const SERVE_JS: &str = include_str!("assets/serve.js");
+
+/// `serve`'s live walking: poses to `/api/live`, streamed pairs to the viewer.
+#[cfg(feature = "gpu")]
+pub const LIVE_JS: &str = include_str!("assets/live.js");

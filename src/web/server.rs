@@ -25,6 +25,7 @@ const STOP_POLL: Duration = Duration::from_millis(100);
 pub(crate) struct Listener {
     server: Arc<Server>,
     addr: SocketAddr,
+    internal: SocketAddr,
     stop: Arc<AtomicBool>,
 }
 
@@ -41,13 +42,34 @@ impl Listener {
         Ok(Self {
             server: Arc::new(server),
             addr,
+            internal: addr,
             stop: Arc::new(AtomicBool::new(false)),
         })
+    }
+
+    /// Listens on a free loopback port for connections a front door passes on from
+    /// `public`, where clients reach it: the `Host` check and [`addr`](Self::addr) are
+    /// `public`'s.
+    pub(crate) fn bind_behind(public: SocketAddr) -> Result<Self, WebError> {
+        let mut listener = Self::bind("127.0.0.1", 0)?;
+        listener.internal = listener.addr;
+        listener.addr = public;
+        Ok(listener)
     }
 
     /// The address it listens on (with the real port when bound to port 0).
     pub(crate) fn addr(&self) -> SocketAddr {
         self.addr
+    }
+
+    /// The address its socket is bound to (`addr` unless it sits behind a front door).
+    pub(crate) fn internal_addr(&self) -> SocketAddr {
+        self.internal
+    }
+
+    /// Its stop flag, for threads that serve beside it.
+    pub(crate) fn stop_flag(&self) -> Arc<AtomicBool> {
+        self.stop.clone()
     }
 
     /// A handle that stops [`serve`](Self::serve).

@@ -168,12 +168,15 @@ pub fn mouse(tab: &Tab, kind: Input::DispatchMouseEventTypeOption, x: f64, y: f6
 }
 
 /// A WebXR runtime stand-in: one `immersive-vr` session whose two views (left half, right half
-/// of the canvas, 90° vertical field of view) look `HEAD_YAW` degrees right of the start; it
-/// records what the page asks of it in `window.__xr`.
+/// of the canvas, 90° vertical field of view) look `HEAD_YAW` degrees right of the start, with
+/// a left and a right controller whose thumbstick axes (xr-standard: 2 and 3) a test sets in
+/// `window.__xr.left` and `window.__xr.right`; it records what the page asks of it in
+/// `window.__xr`.
 pub const XR_STUB: &str = r#"
 (() => {
   const HEAD_YAW = 25;
-  const log = { supported: [], requested: [], spaces: [], viewports: [], frames: 0, layers: 0 };
+  const log = { supported: [], requested: [], spaces: [], viewports: [], frames: 0, layers: 0,
+    left: [0, 0, 0, 0], right: [0, 0, 0, 0] };
   window.__xr = log;
   const half = -HEAD_YAW * Math.PI / 360;
   const orientation = { x: 0, y: Math.sin(half), z: 0, w: Math.cos(half) };
@@ -198,7 +201,11 @@ pub const XR_STUB: &str = r#"
   }
   window.XRWebGLLayer = XRWebGLLayer;
   class Session extends EventTarget {
-    constructor() { super(); this.renderState = {}; this.ended = false; }
+    constructor() {
+      super(); this.renderState = {}; this.ended = false;
+      this.inputSources = [{ handedness: 'left', gamepad: { axes: log.left } },
+        { handedness: 'right', gamepad: { axes: log.right } }];
+    }
     updateRenderState(state) { Object.assign(this.renderState, state); }
     async requestReferenceSpace(type) { log.spaces.push(type); return { type }; }
     requestAnimationFrame(callback) {

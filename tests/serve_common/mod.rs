@@ -11,7 +11,7 @@ use omnicloud::Scene;
 use omnicloud::raster::RasterError;
 use omnicloud::renderer::ResidentError;
 use omnicloud::web::Running;
-use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError};
+use omnicloud::web::serve::{LiveOptions, LiveScan, LiveServer, ServeError, StreamOptions};
 
 /// Under the tree canopy west of the bridge, where much of the scan lies above 45° latitude.
 pub const UNDER_TREES: (f64, f64) = (636291.76, 849305.2);
@@ -28,6 +28,11 @@ pub const FEET_PER_METRE: f64 = 1.0 / 0.3048;
 /// reading the page's IPD in metres as `serve` does for the sample's feet; `None` (after the
 /// GPU rule's notice) without an adapter.
 pub fn start_live(scene: Scene, width: u32) -> Option<Running> {
+    start_live_streaming(scene, width, StreamOptions::default())
+}
+
+/// [`start_live`] with the live stream run as `stream` says.
+pub fn start_live_streaming(scene: Scene, width: u32, stream: StreamOptions) -> Option<Running> {
     let options = LiveOptions {
         width,
         map_size: 256,
@@ -37,7 +42,7 @@ pub fn start_live(scene: Scene, width: u32) -> Option<Running> {
     };
     let scan = LiveScan::new(&sample(), scene, options).unwrap();
     match LiveServer::bind("127.0.0.1", 0, scan) {
-        Ok(server) => Some(server.spawn()),
+        Ok(server) => Some(server.with_stream(stream).spawn()),
         Err(ServeError::Resident(ResidentError::Raster(e @ RasterError::NoAdapter))) => {
             gpu::require_or_skip(&format!("serve has no adapter: {e}"));
             None

@@ -550,6 +550,8 @@
     }
     viewer.xrViews = views;
     viewer.xrFrames += 1;
+    // A page that moves the viewer (serve's live walking) reads the controllers here.
+    if (viewer.onXRFrame) viewer.onXRFrame(frame, xr.session, pose);
   }
 
   // ---- the test and scripting surface ----
@@ -564,6 +566,9 @@
     return requestDraw();
   };
   viewer.view = () => ({ yaw: state.yaw, pitch: state.pitch, fov: state.fov });
+  // In VR: the heading (degrees) the headset's forward starts at, and turning it.
+  viewer.xrYaw = () => (xr ? xr.yaw : null);
+  viewer.turnXR = (deg) => { if (xr) xr.yaw += deg; };
   viewer.setMode = (mode) => {
     if (!(mode in MODES)) throw new Error(`unknown mode ${mode}`);
     state.mode = mode;

@@ -1,7 +1,9 @@
 //! `omnicloud serve`: a scan kept in memory and on the GPU, a top-down map to pick camera
 //! positions on, and ODS pairs rendered live as the page asks (camera, IPD, pole merging),
-//! shown by the viewer's page code, in VR too.
+//! shown by the viewer's page code, in VR too; and a live stream ([`live`]) of pairs for a
+//! client walking through the scan.
 
+pub mod live;
 pub mod map;
 pub mod queue;
 pub mod render_thread;
@@ -12,8 +14,11 @@ mod server;
 
 use std::path::PathBuf;
 
+pub use live::StreamOptions;
 pub use map::{MapGrid, render_map};
-pub use render_thread::{LiveFrame, RenderFailure, RenderThread, live_settings};
+pub use render_thread::{
+    LiveFrame, RawFrame, RenderFailure, RenderQueue, RenderThread, live_settings,
+};
 pub use request::{CameraLimits, RenderRequest};
 pub use scan::{LiveOptions, LiveScan, ScanInfo};
 pub use server::LiveServer;

@@ -1,6 +1,8 @@
 //! The render thread: it owns the renderer chosen at run time with the scan resident
 //! ([`Resident`], created on the thread, so nothing GPU-side crosses threads). HTTP workers hand
-//! it requests through a [`LatestQueue`] and wait for their own answer on a channel.
+//! it requests through a [`LatestQueue`] and wait for their own answer on a channel (a PNG);
+//! the live stream's connections queue theirs through a [`RenderQueue`] and take the raw
+//! pair, to encode it themselves while the next one renders.
 //!
 //! The rasterizer's points live on the GPU relative to the camera (f32 keeps millimetres near
 //! the eye), so a new camera position places them again, keeping the rasterizer; IPD and
@@ -8,13 +10,14 @@
 
 use std::panic::AssertUnwindSafe;
 use std::sync::Arc;
-use std::sync::mpsc::{Sender, channel};
+use std::sync::mpsc::{Receiver, Sender, channel};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use glam::{DVec2, DVec3};
 use indicatif::ProgressBar;
 
+use crate::frame::Frame;
 use crate::projection::{Camera, Image, OdsOffset, Stereo};
 use crate::render::{Imposter, Proxy, RenderSettings, RendererKind};
 use crate::renderer::{Anchor, Resident};
@@ -34,6 +37,23 @@ pub struct LiveFrame {
     /// The request's sequence number.
     pub seq: u64,
     /// Time spent uploading (new camera positions only), rendering and encoding.
+    pub elapsed: Duration,
+}
+
+/// How far (metres) the live stream's camera may stand from the points' anchor before they
+/// are placed again.
+const KEEP_ANCHOR_METRES: f64 = 100.0;
+
+/// A finished render not yet encoded (the live stream encodes it while the next renders).
+#[derive(Debug, Clone)]
+pub struct RawFrame {
+    /// The ODS pair, top-bottom (left eye on top).
+    pub frame: Frame,
+    /// The camera it was rendered from, file coordinates.
+    pub camera: DVec3,
+    /// The request's sequence number.
+    pub seq: u64,
+    /// Time spent uploading (new camera positions only) and rendering.
     pub elapsed: Duration,
 }
 
@@ -59,9 +79,60 @@ pub enum RenderFailure {
     Stopped,
 }
 
+/// Where a job's answer goes: a PNG for `/api/render`, the raw pair for the live stream.
+enum Answer {
+    Png(Sender<Result<LiveFrame, RenderFailure>>),
+    Raw(Sender<Result<RawFrame, RenderFailure>>),
+}
+
+impl Answer {
+    fn fail(self, why: RenderFailure) {
+        // The asker may have given up (its client went away): no matter.
+        match self {
+            Answer::Png(tx) => drop(tx.send(Err(why))),
+            Answer::Raw(tx) => drop(tx.send(Err(why))),
+        }
+    }
+}
+
 struct Job {
     request: RenderRequest,
-    reply: Sender<Result<LiveFrame, RenderFailure>>,
+    /// Panorama width per eye.
+    width: u32,
+    reply: Answer,
+}
+
+/// A handle that queues renders on the render thread from any thread; it outlives nothing:
+/// once the [`RenderThread`] is dropped its renders fail [`RenderFailure::Stopped`].
+#[derive(Clone)]
+pub struct RenderQueue {
+    queue: Arc<LatestQueue<String, Job>>,
+}
+
+impl RenderQueue {
+    /// Queues `request` at panorama `width` in place of its client's request still waiting
+    /// and returns at once; the raw pair (or why there is none) arrives on the receiver.
+    pub fn submit(
+        &self,
+        request: RenderRequest,
+        width: u32,
+    ) -> Receiver<Result<RawFrame, RenderFailure>> {
+        let (reply, answer) = channel();
+        self.push(request, width, Answer::Raw(reply));
+        answer
+    }
+
+    fn push(&self, request: RenderRequest, width: u32, reply: Answer) {
+        let (client, seq) = (request.client.clone(), request.seq);
+        let job = Job {
+            request,
+            width,
+            reply,
+        };
+        if let Some(replaced) = self.queue.push(client, seq, job) {
+            replaced.reply.fail(RenderFailure::Superseded);
+        }
+    }
 }
 
 /// The render thread's handle; dropping it stops the thread once its render is done.
@@ -70,6 +141,8 @@ pub struct RenderThread {
     thread: Option<JoinHandle<()>>,
     adapter: String,
     max_width: u32,
+    /// The served width, of `/api/render`'s pairs.
+    width: u32,
 }
 
 impl RenderThread {
@@ -81,6 +154,7 @@ impl RenderThread {
     /// The renderer could not start (no adapter, a refused device, a scan it cannot hold).
     pub fn start(scan: Arc<LiveScan>, kind: RendererKind) -> Result<Self, ServeError> {
         let queue: Arc<LatestQueue<String, Job>> = Arc::new(LatestQueue::new());
+        let width = scan.options.width;
         let (ready_tx, ready_rx) = channel();
         let thread = {
             let queue = queue.clone();
@@ -109,12 +183,26 @@ impl RenderThread {
                     let mut renderer = Renderer {
                         scan,
                         resident,
-                        asked: Some((first.xy, camera)),
+                        asked: Some((first.xy, None, camera)),
                     };
                     while let Some(job) = queue.take() {
-                        let answer = renderer.answer(&job.request);
+                        let keep_anchor = matches!(job.reply, Answer::Raw(_));
+                        let raw = renderer.answer(&job.request, job.width, keep_anchor);
                         // The asker may have given up (its client went away): no matter.
-                        let _ = job.reply.send(answer);
+                        match job.reply {
+                            Answer::Raw(tx) => drop(tx.send(raw)),
+                            Answer::Png(tx) => drop(tx.send(raw.and_then(|raw| {
+                                let started = Instant::now();
+                                let png = png_bytes(&raw.frame)
+                                    .map_err(|e| RenderFailure::Failed(e.to_string()))?;
+                                Ok(LiveFrame {
+                                    png,
+                                    camera: raw.camera,
+                                    seq: raw.seq,
+                                    elapsed: raw.elapsed + started.elapsed(),
+                                })
+                            }))),
+                        }
                     }
                 })
                 .map_err(ServeError::Thread)?
@@ -124,6 +212,7 @@ impl RenderThread {
             thread: Some(thread),
             adapter: String::new(),
             max_width: 0,
+            width,
         };
         match ready_rx.recv() {
             Ok(Ok((adapter, max_width))) => {
@@ -152,18 +241,23 @@ impl RenderThread {
     /// frame. Whichever of the two is older is answered [`RenderFailure::Superseded`].
     pub fn render(&self, request: RenderRequest) -> Result<LiveFrame, RenderFailure> {
         let (reply, answer) = channel();
-        let (client, seq) = (request.client.clone(), request.seq);
-        if let Some(replaced) = self.queue.push(client, seq, Job { request, reply }) {
-            let _ = replaced.reply.send(Err(RenderFailure::Superseded));
-        }
+        let queue = self.queue();
+        queue.push(request, self.width, Answer::Png(reply));
         answer.recv().unwrap_or(Err(RenderFailure::Stopped))
+    }
+
+    /// A handle for queueing renders from other threads (the live stream's connections).
+    pub fn queue(&self) -> RenderQueue {
+        RenderQueue {
+            queue: self.queue.clone(),
+        }
     }
 }
 
 impl Drop for RenderThread {
     fn drop(&mut self) {
         for job in self.queue.close() {
-            let _ = job.reply.send(Err(RenderFailure::Stopped));
+            job.reply.fail(RenderFailure::Stopped);
         }
         if let Some(t) = self.thread.take() {
             let _ = t.join();
@@ -176,15 +270,23 @@ struct Renderer<'a> {
     scan: &'a LiveScan,
     /// The renderer with the scan resident, placed for the last camera.
     resident: Resident<'a>,
-    /// The XY last asked for and its camera (local frame), while the resident is placed there.
-    asked: Option<(DVec2, DVec3)>,
+    /// The XY and height above the ground last asked for and their camera (local frame),
+    /// while the resident is placed there.
+    asked: Option<(DVec2, Option<f64>, DVec3)>,
 }
 
 impl Renderer<'_> {
     /// Renders `request`; a panic in the renderer becomes a failure, and the next request
     /// uploads afresh.
-    fn answer(&mut self, request: &RenderRequest) -> Result<LiveFrame, RenderFailure> {
-        let result = std::panic::catch_unwind(AssertUnwindSafe(|| self.render(request)));
+    fn answer(
+        &mut self,
+        request: &RenderRequest,
+        width: u32,
+        keep_anchor: bool,
+    ) -> Result<RawFrame, RenderFailure> {
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            self.render(request, width, keep_anchor)
+        }));
         let answer = match result {
             Ok(answer) => answer,
             Err(panic) => Err(RenderFailure::Failed(
@@ -202,35 +304,56 @@ impl Renderer<'_> {
         answer
     }
 
-    fn render(&mut self, request: &RenderRequest) -> Result<LiveFrame, RenderFailure> {
+    /// Renders `request` at `width`; `keep_anchor`: the points stay where they are when the
+    /// camera is near them (the live stream), else they are placed at the camera, so that a
+    /// render is the library's render there bit for bit (`/api/render`).
+    fn render(
+        &mut self,
+        request: &RenderRequest,
+        width: u32,
+        keep_anchor: bool,
+    ) -> Result<RawFrame, RenderFailure> {
         let started = Instant::now();
         let scan = self.scan;
         let failed = |e: &dyn std::fmt::Display| RenderFailure::Failed(e.to_string());
         // The ground search reads every point: a slider moved at one position reuses it.
-        let camera = match self.asked {
-            Some((xy, camera)) if xy == request.xy => camera,
+        let camera = match (self.asked, request.z) {
+            (_, Some(z)) => request.xy.extend(z) - scan.scene.origin,
+            (Some((xy, height, camera)), None) if xy == request.xy && height == request.height => {
+                camera
+            }
             _ => {
-                let world = scan.camera_at(request.xy).ok_or(RenderFailure::NoGround {
-                    x: request.xy.x,
-                    y: request.xy.y,
-                })?;
+                let world = scan.camera_at_height(request.xy, request.height).ok_or(
+                    RenderFailure::NoGround {
+                        x: request.xy.x,
+                        y: request.xy.y,
+                    },
+                )?;
                 world - scan.scene.origin
             }
         };
-        let settings = live_settings(scan, camera, request);
+        let mut settings = live_settings(scan, camera, request);
+        settings.image = Image::equirect(width);
+        // A walk keeps the points where they are while the camera stays near them: the
+        // upload is most of a small frame's time, and f32 offsets stay within a fraction of
+        // a millimetre over the distance.
+        let near = self.resident.anchor().position().distance(camera)
+            < KEEP_ANCHOR_METRES * scan.options.per_metre;
         self.asked = None;
-        self.resident
-            .place(Anchor::Camera(camera))
-            .map_err(|e| failed(&e))?;
-        self.asked = Some((request.xy, camera));
+        if !(keep_anchor && near) {
+            self.resident
+                .place(Anchor::Camera(camera))
+                .map_err(|e| failed(&e))?;
+        }
+        self.asked = Some((request.xy, request.height, camera));
         let rendered = self
             .resident
             .render(&settings, &ProgressBar::hidden())
             .map_err(|e| failed(&e))?;
-        let png = png_bytes(&rendered.top_bottom()).map_err(|e| failed(&e))?;
+        let frame = rendered.top_bottom();
         self.resident.recycle(rendered);
-        Ok(LiveFrame {
-            png,
+        Ok(RawFrame {
+            frame,
             camera: scan.scene.origin + camera,
             seq: request.seq,
             elapsed: started.elapsed(),

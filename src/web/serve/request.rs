@@ -30,6 +30,10 @@ pub struct RenderRequest {
     /// Who asks (a page names itself; empty when not given): each client has its own place
     /// in the render queue.
     pub client: String,
+    /// Camera height, file Z; `None`: [`height`](Self::height) above the ground at `xy`.
+    pub z: Option<f64>,
+    /// Camera height above the ground, file units; `None`: the served height.
+    pub height: Option<f64>,
 }
 
 /// The XY box a camera may stand in (the scan's bounds, file coordinates), and where it
@@ -54,6 +58,8 @@ impl RenderRequest {
             merging: PoleMerging::both(PoleMerge::COMFORTABLE),
             seq: 0,
             client: String::new(),
+            z: None,
+            height: None,
         }
     }
 
@@ -107,7 +113,7 @@ impl RenderRequest {
 }
 
 /// `v` when it lies in `lo..=hi`; else a message saying the camera must stand on the scan.
-fn within(key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, String> {
+pub(super) fn within(key: &str, v: f64, lo: f64, hi: f64) -> Result<f64, String> {
     if (lo..=hi).contains(&v) {
         Ok(v)
     } else {

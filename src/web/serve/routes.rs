@@ -27,12 +27,14 @@ pub fn route(
     };
     let script = |text| Reply::ok("text/javascript; charset=utf-8", Body::Static(text));
     match path.as_str() {
-        "/" | "/index.html" => no_query(Reply::ok(
-            "text/html; charset=utf-8",
-            Body::Static(assets::SERVE_HTML),
-        )),
+        // The page takes the view a link reproduces (live.js reads it).
+        "/" | "/index.html" => match pairs(&query, &["x", "y", "yaw"]) {
+            Ok(_) => Reply::ok("text/html; charset=utf-8", Body::Static(assets::SERVE_HTML)),
+            Err(e) => Reply::error(400, e),
+        },
         "/viewer.js" => no_query(script(assets::VIEWER_JS)),
         "/serve.js" => no_query(script(assets::SERVE_JS)),
+        "/live.js" => no_query(script(assets::LIVE_JS)),
         "/api/scan" => no_query(Reply::json(&scan.info)),
         "/map.png" => no_query(Reply::ok("image/png", Body::Bytes(scan.map_png.clone()))),
         "/api/render" => match RenderRequest::parse(&query, &scan.limits) {
@@ -118,7 +120,16 @@ mod tests {
         let scan = scan();
         let page = route("GET", "/", &scan, &echo);
         assert_eq!(page.body, Body::Static(assets::SERVE_HTML));
-        for path in ["/viewer.js", "/serve.js", "/api/scan", "/map.png"] {
+        let link = route("GET", "/?x=101.5&y=202&yaw=90.0", &scan, &echo);
+        assert_eq!(link.body, Body::Static(assets::SERVE_HTML));
+        assert_eq!(route("GET", "/?zoom=2", &scan, &echo).status, 400);
+        for path in [
+            "/viewer.js",
+            "/serve.js",
+            "/live.js",
+            "/api/scan",
+            "/map.png",
+        ] {
             assert_eq!(route("GET", path, &scan, &echo).status, 200, "{path}");
         }
         let Body::Text(json) = route("GET", "/api/scan", &scan, &echo).body else {

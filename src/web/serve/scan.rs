@@ -154,13 +154,19 @@ impl LiveScan {
     /// ([`ground_camera_position`]); `None` when no point lies near enough to stand on. At
     /// the default camera's XY, the camera preparation placed (where `render` stands).
     pub fn camera_at(&self, xy: DVec2) -> Option<DVec3> {
-        if xy == self.limits.default {
+        self.camera_at_height(xy, None)
+    }
+
+    /// [`camera_at`](Self::camera_at) `height` (file units) above the ground when given, the
+    /// served height when not.
+    pub fn camera_at_height(&self, xy: DVec2, height: Option<f64>) -> Option<DVec3> {
+        if xy == self.limits.default && height.is_none() {
             return Some(DVec3::from_array(self.info.camera));
         }
         let centre = (xy - self.scene.origin.truncate()).as_vec2();
         let eye = ground_camera_position(&self.scene, centre, self.extent)?;
         let ground = self.scene.origin.z + eye.z - EYE_HEIGHT;
-        Some(xy.extend(ground + self.options.height))
+        Some(xy.extend(ground + height.unwrap_or(self.options.height)))
     }
 }
 

@@ -1,12 +1,17 @@
-//! `serve`'s HTTP server: the viewer's listener and workers, the scan, and the render thread.
+//! `serve`'s server: a front door on the public port that takes the live stream's WebSocket
+//! connections itself and passes the rest to the viewer's HTTP listener and workers; the
+//! scan, and the render thread.
 
-use std::net::SocketAddr;
+use std::net::{SocketAddr, TcpListener};
 use std::sync::Arc;
 
 use crate::render::RendererKind;
+use crate::web::WebError;
 use crate::web::server::{Listener, Running, Stopper};
 
 use super::ServeError;
+use super::live::StreamOptions;
+use super::live::front::accept;
 use super::render_thread::RenderThread;
 use super::routes::route;
 use super::scan::LiveScan;
@@ -17,9 +22,11 @@ const WORKERS: usize = 6;
 
 /// A bound live server with its render thread running, not yet serving.
 pub struct LiveServer {
+    public: TcpListener,
     listener: Listener,
     scan: Arc<LiveScan>,
     renderer: RenderThread,
+    stream: StreamOptions,
 }
 
 impl LiveServer {
@@ -43,14 +50,28 @@ impl LiveServer {
         scan: LiveScan,
         kind: RendererKind,
     ) -> Result<Self, ServeError> {
-        let listener = Listener::bind(host, port)?;
+        let bind_err = |reason: String| WebError::Bind {
+            addr: format!("{host}:{port}"),
+            reason,
+        };
+        let public = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
+        let addr = public.local_addr().map_err(|e| bind_err(e.to_string()))?;
+        let listener = Listener::bind_behind(addr)?;
         let scan = Arc::new(scan);
         let renderer = RenderThread::start(scan.clone(), kind)?;
         Ok(LiveServer {
+            public,
             listener,
             scan,
             renderer,
+            stream: StreamOptions::default(),
         })
+    }
+
+    /// Sets how the live stream (`/api/live`) runs.
+    pub fn with_stream(mut self, stream: StreamOptions) -> Self {
+        self.stream = stream;
+        self
     }
 
     /// The address it listens on (with the real port when bound to port 0).
@@ -73,12 +94,22 @@ impl LiveServer {
         &self.scan
     }
 
-    /// Answers requests until stopped; a bad request or a failed render gets its error reply
-    /// and serving goes on.
+    /// Answers requests and streams until stopped; a bad request or a failed render gets
+    /// its error reply and serving goes on.
     pub fn serve(self) {
+        let shared = Arc::new(super::live::session::Shared {
+            scan: self.scan.clone(),
+            queue: self.renderer.queue(),
+            options: self.stream,
+            stop: self.listener.stop_flag(),
+        });
         let (scan, renderer) = (&self.scan, &self.renderer);
-        self.listener.serve(WORKERS, &|method, url| {
-            route(method, url, scan, &|request| renderer.render(request))
+        let http = self.listener.internal_addr();
+        std::thread::scope(|scope| {
+            scope.spawn(|| accept(&self.public, http, &shared));
+            self.listener.serve(WORKERS, &|method, url| {
+                route(method, url, scan, &|request| renderer.render(request))
+            });
         });
     }
 
