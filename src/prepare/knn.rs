@@ -213,7 +213,11 @@ impl Grid {
         let mut best = vec![f32::INFINITY; wanted];
         // One cursor per row of the block (dy, dz): the rows' first keys grow with the cell's.
         let mut cursors = [0usize; 9];
-        let offsets: [u64; 9] = std::array::from_fn(|r| (r % 3) as u64 * Y + (r / 3) as u64 * Z);
+        // The cell's own row first: its near candidates make later ones fail the first test.
+        let offsets: [u64; 9] = std::array::from_fn(|r| {
+            let r = (r + 4) % 9;
+            (r % 3) as u64 * Y + (r / 3) as u64 * Z
+        });
         let first = self.keys[cells.start] - 1 - Y - Z;
         for (cursor, offset) in cursors.iter_mut().zip(offsets) {
             *cursor = self.keys.partition_point(|k| *k < first + offset);
@@ -338,12 +342,9 @@ fn nearest(candidates: &[[f32; 3]], q: &[f32; 3], best: &mut [f32]) {
 /// The key of the cell holding `p`.
 #[inline]
 fn key_of(p: &[f32; 3], origin: DVec3, cell: f64) -> u64 {
-    // At least 1: the cells below the lowest point's stay empty padding.
-    let axis = |v: f32, o: f64| {
-        ((f64::from(v) - o) / cell)
-            .floor()
-            .clamp(1.0, MAX_CELLS + 2.0) as u64
-    };
+    // At least 1: the cells below the lowest point's stay empty padding. The quotient is
+    // positive there, so truncation floors it.
+    let axis = |v: f32, o: f64| ((f64::from(v) - o) / cell).clamp(1.0, MAX_CELLS + 2.0) as u64;
     pack([
         axis(p[0], origin.x),
         axis(p[1], origin.y),
