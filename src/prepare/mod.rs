@@ -3,6 +3,7 @@
 //! take; [`subsample`] thins a prepared scene for a given render.
 
 pub mod filter;
+pub mod knn;
 pub mod lengths;
 pub mod lod;
 pub mod map_extent;

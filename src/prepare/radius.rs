@@ -133,19 +133,10 @@ pub fn adaptive_radii_from(positions: &[Vec3], from: usize, k: usize) -> Option<
         return None;
     }
     let k = k.min(points.len() - 1);
-    let tree = kiddo::ImmutableKdTree::<f32, 3>::new_from_slice(&points).ok()?;
-    let wanted = std::num::NonZero::new(k + 1).expect("k + 1 > 0");
-    let mut radii: Vec<f32> = points[from..]
-        .par_iter()
-        .map(|p| {
-            let near = tree
-                .query(p)
-                .nearest_n::<kiddo::SquaredEuclidean<f32>>(wanted)
-                .execute();
-            // Sorted by distance, the point itself (distance 0) first.
-            near.last().map_or(0.0, |n| n.distance.sqrt()) / (k as f32).sqrt()
-        })
-        .collect();
+    let mut radii = super::knn::kth_distances2(&points, from, k);
+    for r in &mut radii {
+        *r = r.sqrt() / (k as f32).sqrt();
+    }
     let mut positive: Vec<f32> = radii.iter().copied().filter(|r| *r > 0.0).collect();
     if positive.is_empty() {
         return None;
