@@ -2,7 +2,7 @@
 //!
 //! [`path`] reads the keyframes (CSV or GeoJSON), [`spline`] draws the curve through them and
 //! measures its length, [`poses`] places the frames at constant speed with their headings,
-//! [`plan`](plan()) puts it together on a loaded scan, [`shard`] splits the frames across
+//! [`plan`](plan()) puts it together on a scan (a file, or points already in memory), [`shard`] splits the frames across
 //! processes, [`run`] renders and writes the frames (through the scan kept resident by
 //! [`crate::renderer`]), and [`manifest`] records them in `tour.json`.
 
@@ -15,11 +15,13 @@ pub mod shard;
 pub mod spline;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{DVec3, Vec2};
 use indicatif::ProgressBar;
 
-use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare};
+use crate::io::FileInfo;
+use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare, prepare_scene};
 use crate::scene::Scene;
 
 pub use manifest::{FrameRecord, StereoLayout, TourManifest};
@@ -28,13 +30,64 @@ pub use poses::{Heading, Pose, Sampling};
 pub use run::{FrameFormat, RunOptions, RunReport, render_frames};
 pub use shard::{Shard, ShardChoice, ShardSource};
 
+/// The points a tour is laid out on.
+#[derive(Debug, Clone)]
+pub enum TourScan {
+    /// A LAS, LAZ, COPC or PLY file, loaded once around the tour's origin.
+    File(PathBuf),
+    /// Points already in memory, moved onto the tour's origin.
+    Points {
+        /// The points.
+        scene: Arc<Scene>,
+        /// Header facts of the file the points were read from, when they were: its bounds
+        /// check the keyframes and place the origin as a file's do (else the points' bounds).
+        info: Option<FileInfo>,
+        /// How the manifest and messages name the points.
+        name: PathBuf,
+    },
+}
+
+impl TourScan {
+    /// The file, or the name of the points.
+    pub fn name(&self) -> &Path {
+        match self {
+            TourScan::File(file) => file,
+            TourScan::Points { name, .. } => name,
+        }
+    }
+}
+
+/// A tour's keyframes.
+#[derive(Debug, Clone)]
+pub enum TourPath {
+    /// A path file (CSV or GeoJSON, [`path::read_path`]).
+    File(PathBuf),
+    /// Keyframes given in memory (each [`Keyframe::at`] names it in messages).
+    Keyframes {
+        /// The keyframes, in file coordinates.
+        keyframes: Vec<Keyframe>,
+        /// How the manifest and messages name them.
+        name: PathBuf,
+    },
+}
+
+impl TourPath {
+    /// The file, or the name of the keyframes.
+    pub fn name(&self) -> &Path {
+        match self {
+            TourPath::File(file) => file,
+            TourPath::Keyframes { name, .. } => name,
+        }
+    }
+}
+
 /// What a tour is asked for.
 #[derive(Debug, Clone)]
 pub struct TourRequest {
     /// The scan.
-    pub scan: PathBuf,
-    /// The path file (CSV or GeoJSON).
-    pub path: PathBuf,
+    pub scan: TourScan,
+    /// The keyframes.
+    pub path: TourPath,
     /// How the scan is read (its `camera` and `origin` are the tour's to set).
     pub prepare: PrepareOptions,
     /// Eye height above the ground where the path gives no z, file units: the one given, or
@@ -68,8 +121,9 @@ pub struct Tour {
     pub eye_height: f64,
     /// Every frame's camera.
     pub poses: Vec<Pose>,
-    /// What loading the scan did (points dropped for bad coordinates).
-    pub load_report: crate::io::LoadReport,
+    /// What loading the scan file did (points dropped for bad coordinates); `None` for
+    /// points given in memory.
+    pub load_report: Option<crate::io::LoadReport>,
 }
 
 /// Why a tour could not be laid out.
@@ -84,15 +138,16 @@ pub enum TourError {
     /// The path is readable but not usable on this scan.
     #[error("{}: {message}", path.display())]
     BadPath {
-        /// The path file.
+        /// The path file, or the name of the keyframes.
         path: PathBuf,
         /// What is wrong, naming the line or feature.
         message: String,
     },
 }
 
-/// Reads the path, loads the scan once around a fixed origin (the centre of the path's
-/// keyframes, in whole metres) and places every frame on the curve. A path without heights
+/// Reads the path (or takes the keyframes given), loads the scan once around a fixed origin
+/// (the centre of the path's keyframes, in whole metres; points in memory are moved onto it)
+/// and places every frame on the curve. A path without heights
 /// walks `request.height` above the ground (sampled along the curve and smoothed; speed is
 /// then measured over the ground plan); a path with some heights puts the missing ones
 /// `request.height` above the ground under their keyframes.
@@ -101,12 +156,14 @@ pub enum TourError {
 /// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
 /// keyframe outside the scan's bounds, and the scan's loading errors.
 pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
-    let file = &request.path;
     let bad = |message: String| TourError::BadPath {
-        path: file.clone(),
+        path: request.path.name().to_path_buf(),
         message,
     };
-    let mut keyframes = path::read_path(file)?;
+    let mut keyframes = match &request.path {
+        TourPath::File(file) => path::read_path(file)?,
+        TourPath::Keyframes { keyframes, .. } => keyframes.clone(),
+    };
     // Consecutive repeats (common in exported lines) add nothing to the curve.
     keyframes.dedup_by(|b, a| a.x == b.x && a.y == b.y && a.z == b.z);
     if keyframes.len() < 2 {
@@ -116,24 +173,38 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         )));
     }
 
-    let origin = path_origin(&keyframes, &request.scan);
+    let header = match &request.scan {
+        TourScan::File(file) => header_bounds(file),
+        TourScan::Points { scene, info, .. } => info
+            .as_ref()
+            .and_then(|info| plausible(info.bounds))
+            .or_else(|| scene.bounds().map(|(lo, hi)| world_bounds(scene, lo, hi))),
+    };
+    let origin = path_origin(&keyframes, header);
     let options = PrepareOptions {
         origin: Some(origin),
         camera: crate::prepare::CameraChoice::At(origin),
         ..request.prepare
     };
-    let prepared = prepare(&request.scan, &options, progress)?;
-    let (scene, load_report) = (prepared.scene, prepared.report);
+    let (scene, load_report) = match &request.scan {
+        TourScan::File(file) => {
+            let prepared = prepare(file, &options, progress)?;
+            (prepared.scene, Some(prepared.report))
+        }
+        TourScan::Points { scene, name, .. } => {
+            let mut scene = Scene::clone(scene);
+            scene.recenter(origin);
+            (prepare_scene(scene, &options, name)?.scene, None)
+        }
+    };
     // The header's bounds when it has them (the numbers `omnicloud info` shows; in file axes,
     // so not for a Y-up file), else the points'.
-    let header = (request.prepare.up == crate::io::Up::Z)
-        .then(|| header_bounds(&request.scan))
-        .flatten();
+    let header = header.filter(|_| request.prepare.up == crate::io::Up::Z);
     let (lo, hi) = header.unwrap_or_else(|| {
         let (lo, hi) = scene
             .bounds()
             .expect("a prepared scene has at least one point");
-        (origin + lo.as_dvec3(), origin + hi.as_dvec3())
+        world_bounds(&scene, lo, hi)
     });
     let height = request
         .height
@@ -156,7 +227,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
                 hi.x,
                 lo.y,
                 hi.y,
-                request.scan.display(),
+                request.scan.name().display(),
                 if degrees {
                     " (the path looks like longitude/latitude: export it in the scan's \
                      coordinate system)"
@@ -236,13 +307,23 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
 
 /// The XY-plausible bounds of the scan's header, file coordinates.
 fn header_bounds(scan: &Path) -> Option<(DVec3, DVec3)> {
-    let (lo, hi) = crate::io::open(scan).ok()?.info().bounds?;
+    plausible(crate::io::open(scan).ok()?.info().bounds)
+}
+
+/// `bounds` when they are finite and not inverted in XY.
+fn plausible(bounds: Option<(DVec3, DVec3)>) -> Option<(DVec3, DVec3)> {
+    let (lo, hi) = bounds?;
     (lo.is_finite() && hi.is_finite() && lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
 }
 
+/// Local bounds `lo`, `hi` of `scene` in file coordinates.
+fn world_bounds(scene: &Scene, lo: glam::Vec3, hi: glam::Vec3) -> (DVec3, DVec3) {
+    (scene.origin + lo.as_dvec3(), scene.origin + hi.as_dvec3())
+}
+
 /// The tour's local zero: the centre of the keyframes' bounds in whole metres; its height
-/// from the keyframes that give one, else from the scan header's bounds (0 without them).
-fn path_origin(keyframes: &[Keyframe], scan: &Path) -> DVec3 {
+/// from the keyframes that give one, else from the scan's `bounds` (0 without them).
+fn path_origin(keyframes: &[Keyframe], bounds: Option<(DVec3, DVec3)>) -> DVec3 {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for k in keyframes.iter() {
         let p = DVec3::new(k.x, k.y, k.z.unwrap_or(f64::NAN));
@@ -251,7 +332,7 @@ fn path_origin(keyframes: &[Keyframe], scan: &Path) -> DVec3 {
     }
     let mut c = (lo + hi) * 0.5;
     if !c.z.is_finite() {
-        c.z = header_bounds(scan).map_or(0.0, |(lo, hi)| (lo.z + hi.z) * 0.5);
+        c.z = bounds.map_or(0.0, |(lo, hi)| (lo.z + hi.z) * 0.5);
     }
     c.round()
 }
