@@ -191,11 +191,10 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
             let prepared = prepare(file, &options, progress)?;
             (prepared.scene, Some(prepared.report))
         }
-        TourScan::Points { scene, name, .. } => {
-            let mut scene = Scene::clone(scene);
-            scene.recenter(origin);
-            (prepare_scene(scene, &options, name)?.scene, None)
-        }
+        TourScan::Points { scene, name, .. } => (
+            prepare_scene(Scene::clone(scene), &options, name)?.scene,
+            None,
+        ),
     };
     // The header's bounds when it has them (the numbers `omnicloud info` shows; in file axes,
     // so not for a Y-up file), else the points'.
