@@ -335,3 +335,102 @@ fn path_origin(keyframes: &[Keyframe], bounds: Option<(DVec3, DVec3)>) -> DVec3 
     }
     c.round()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::{LoadOptions, load_files_with_progress};
+
+    const SCAN: &str = "data/autzen_trim.laz";
+    const WALK: &str = "data/tours/autzen_walk.csv";
+
+    fn request(scan: TourScan, path: TourPath) -> TourRequest {
+        TourRequest {
+            scan,
+            path,
+            prepare: PrepareOptions::default(),
+            height: EyeHeight::new(None, 1.0 / 0.3048),
+            sampling: Sampling::Frames(5),
+            heading_window: 2.0,
+            yaw_offset: 0.0,
+            pitch_offset: 0.0,
+            roll_offset: 0.0,
+        }
+    }
+
+    /// The sample read into memory as a caller holds it, with its header.
+    fn points() -> TourScan {
+        let file = PathBuf::from(SCAN);
+        let (scene, report) = load_files_with_progress(
+            &[file.clone()],
+            &LoadOptions::default(),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        TourScan::Points {
+            scene: Arc::new(scene),
+            info: Some(report.info),
+            name: file,
+        }
+    }
+
+    #[test]
+    fn points_and_keyframes_in_memory_plan_the_tour_of_the_files() {
+        let from_files = plan(
+            &request(TourScan::File(SCAN.into()), TourPath::File(WALK.into())),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        let keyframes = path::read_path(Path::new(WALK)).unwrap();
+        let in_memory = plan(
+            &request(
+                points(),
+                TourPath::Keyframes {
+                    keyframes,
+                    name: "walk".into(),
+                },
+            ),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        assert_eq!(from_files.origin, DVec3::new(636600.0, 849175.0, 463.0));
+        assert_eq!(in_memory.origin, from_files.origin);
+        // The same points after the same rounding: the same ground, so the same poses.
+        assert_eq!(in_memory.scene.positions, from_files.scene.positions);
+        assert_eq!(in_memory.poses, from_files.poses);
+        assert_eq!(in_memory.poses.len(), 5);
+        assert!(
+            (from_files.length - 461.0).abs() < 0.05,
+            "{}",
+            from_files.length
+        );
+        assert!(from_files.load_report.is_some() && in_memory.load_report.is_none());
+    }
+
+    #[test]
+    fn keyframes_off_the_points_are_refused_naming_the_keyframes() {
+        let keyframe = |x: f64, y: f64, at: &str| Keyframe {
+            x,
+            y,
+            z: None,
+            yaw: None,
+            pitch: 0.0,
+            roll: 0.0,
+            at: at.into(),
+        };
+        let path = TourPath::Keyframes {
+            keyframes: vec![
+                keyframe(636400.0, 849100.0, "row 0"),
+                keyframe(0.0, 0.0, "row 1"),
+            ],
+            name: "<path array>".into(),
+        };
+        let e = plan(&request(points(), path), &ProgressBar::hidden()).unwrap_err();
+        let message = e.to_string();
+        assert!(
+            message.starts_with("<path array>: row 1: (0, 0) lies outside the scan's bounds")
+                && message.contains(SCAN),
+            "{message}"
+        );
+    }
+}
