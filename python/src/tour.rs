@@ -179,7 +179,7 @@ pub fn tour(
     let request = TourRequest {
         scan: TourScan::Points {
             scene: Arc::clone(&cloud.scene),
-            info: cloud.info.clone(),
+            info: cloud.info.clone().map(Box::new),
             name: cloud.name.clone(),
         },
         path: TourPath::Keyframes {

@@ -33,7 +33,7 @@ pub use shard::{Shard, ShardChoice, ShardSource};
 /// The points a tour is laid out on.
 #[derive(Debug, Clone)]
 pub enum TourScan {
-    /// A LAS, LAZ, COPC or PLY file, loaded once around the tour's origin.
+    /// A LAS, LAZ, COPC or PLY file, loaded once and moved onto the tour's origin.
     File(PathBuf),
     /// Points already in memory, moved onto the tour's origin.
     Points {
@@ -41,7 +41,7 @@ pub enum TourScan {
         scene: Arc<Scene>,
         /// Header facts of the file the points were read from, when they were: its bounds
         /// check the keyframes and place the origin as a file's do (else the points' bounds).
-        info: Option<FileInfo>,
+        info: Option<Box<FileInfo>>,
         /// How the manifest and messages name the points.
         name: PathBuf,
     },
@@ -362,14 +362,14 @@ mod tests {
     fn points() -> TourScan {
         let file = PathBuf::from(SCAN);
         let (scene, report) = load_files_with_progress(
-            &[file.clone()],
+            std::slice::from_ref(&file),
             &LoadOptions::default(),
             &ProgressBar::hidden(),
         )
         .unwrap();
         TourScan::Points {
             scene: Arc::new(scene),
-            info: Some(report.info),
+            info: Some(Box::new(report.info)),
             name: file,
         }
     }
