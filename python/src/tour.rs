@@ -167,7 +167,7 @@ pub fn tour(
         },
     };
     let fps = positive("fps", fps)?;
-    if !(finite("heading_smoothing", heading_smoothing)? >= 0.0) {
+    if finite("heading_smoothing", heading_smoothing)? < 0.0 {
         return Err(value_error(format!(
             "heading_smoothing: {heading_smoothing} must not be negative"
         )));
