@@ -6,10 +6,11 @@
     image = omnicloud.render(cloud, width=2048, stereo="ods")
     image.save("pano_360_TB.png")                  # exactly what `omnicloud render` writes
     image.rgba, image.depth                         # numpy arrays
+    frames = omnicloud.tour(cloud, keyframes, frames=60, width=1024)   # a walk, as Images
 
 `help(omnicloud.render)` lists every option; they are the command line's.
 """
 
-from ._native import Image, PointCloud, compare, read, render
+from ._native import Image, PointCloud, compare, read, render, tour
 
-__all__ = ["Image", "PointCloud", "compare", "read", "render"]
+__all__ = ["Image", "PointCloud", "compare", "read", "render", "tour"]

@@ -1,6 +1,7 @@
 //! `omnicloud._native`: the compiled part of the `omnicloud` Python package. Every function
 //! calls the omnicloud library (reading, filters, preparation, both renderers, outputs,
-//! compare); this crate only converts arguments and arrays and releases the GIL around the work.
+//! compare, tours); this crate only converts arguments and arrays and releases the GIL around
+//! the work.
 
 mod cloud;
 mod errors;
@@ -8,6 +9,8 @@ mod image;
 mod options;
 mod progress;
 mod render;
+mod tour;
+mod view;
 
 use pyo3::prelude::*;
 
@@ -19,5 +22,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cloud::read, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(image::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(tour::tour, m)?)?;
     Ok(())
 }

@@ -5,23 +5,18 @@ use std::sync::Arc;
 
 use glam::DVec3;
 use omnicloud::output::{Layout, OutputOptions};
-use omnicloud::prepare::{
-    CameraChoice, EyeHeight, LengthScale, Lod, PrepareOptions, RadiusChoice, Units, prepare_scene,
-};
-use omnicloud::projection::{Camera, Image as ImageSize, OdsOffset, PoleMerge, PoleMerging};
-use omnicloud::projection::{Projection, Stereo, StereoKind};
-use omnicloud::render::{Background, ColorMode, Edl, Look, RenderSettings, RendererKind, Shading};
+use omnicloud::prepare::{CameraChoice, EyeHeight, Lod, PrepareOptions, prepare_scene};
+use omnicloud::projection::Camera;
+use omnicloud::render::RenderSettings;
 use omnicloud::renderer::Resident;
 use pyo3::prelude::*;
 
 use crate::cloud::PointCloud;
 use crate::errors::{prepare_error, render_error, value_error};
 use crate::image::Image;
-use crate::options::{FilterArgs, as_text, finite, parse, parse_any, value_enum};
+use crate::options::{as_text, finite, parse};
 use crate::progress::with_progress;
-
-// The signature's `ipd=0.064` is the library's default, written out so `help()` shows it.
-const _: () = assert!(Stereo::DEFAULT_IPD == 0.064);
+use crate::view::{View, ViewArgs};
 
 /// Renders `cloud` to a panorama (or another projection), as `omnicloud render` renders a
 /// file with the same options; `Image.save` then writes the same file.
@@ -97,23 +92,38 @@ pub fn render(
     background: Option<&Bound<'_, PyAny>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Image> {
-    // Lengths given in metres become lengths in the cloud's unit, as the command line
-    // converts them (`--units`).
-    let units: Units = value_enum("units", units)?;
-    let scale = LengthScale::for_file(&cloud.units, units, cloud.up);
-    let stereo: StereoKind = parse("stereo", stereo)?;
-    let projection: Projection = parse("projection", projection)?;
-    let ipd =
-        Stereo::check_ipd(finite("ipd", ipd)?).map_err(|e| value_error(format!("ipd: {e}")))?;
-    let pole: PoleMerge = parse("pole_merge", pole_merge)?;
-    let merging = PoleMerging {
-        north: pole_merge_north.map_or(Ok(pole), |p| parse("pole_merge_north", p))?,
-        south: pole_merge_south.map_or(Ok(pole), |p| parse("pole_merge_south", p))?,
-    };
-    let offset: OdsOffset = value_enum("ods_offset", ods_offset)?;
-    let kind: RendererKind = parse("renderer", renderer)?;
-    let color: ColorMode = parse("color", color)?;
-    let shading: Shading = parse("shading", shading)?;
+    let view = ViewArgs {
+        width,
+        stereo,
+        projection,
+        ipd,
+        pole_merge,
+        pole_merge_north,
+        pole_merge_south,
+        ods_offset,
+        renderer,
+        color,
+        shading,
+        radius,
+        classes,
+        drop_classes,
+        returns,
+        crop,
+        max_distance,
+        units,
+        edl,
+        edl_radius,
+        supersample,
+        background,
+    }
+    .parse(cloud)?;
+    let View {
+        scale,
+        projection,
+        renderer: kind,
+        look,
+        ..
+    } = view;
     let camera_choice = match camera {
         None => CameraChoice::default(),
         Some(c) => parse::<CameraChoice>("camera", &as_text("camera", c)?)?,
@@ -131,52 +141,17 @@ pub fn render(
         }
         h => h.map(|h| scale.height(h)),
     };
-    let radius = parse_any::<RadiusChoice>("radius", radius)?.map(|r| r.scaled(scale.length(1.0)));
-    let filter = FilterArgs {
-        classes,
-        drop_classes,
-        returns,
-        crop,
-        max_distance,
-    }
-    .filter(scale.length(1.0))?;
-    let edl = edl
-        .map(|strength| -> PyResult<Edl> {
-            use omnicloud::render::edl::{parse_radius, parse_strength};
-            Ok(Edl {
-                strength: parse_strength(&strength.to_string())
-                    .map_err(|e| value_error(format!("edl: {e}")))?,
-                radius: parse_radius(&edl_radius.to_string())
-                    .map_err(|e| value_error(format!("edl_radius: {e}")))?,
-            })
-        })
-        .transpose()?;
-    let look = Look {
-        edl,
-        supersample,
-        background: parse_any::<Background>("background", background)?,
-    };
-    let map = projection.is_map();
-    if map && stereo.eyes() == 2 {
-        return Err(value_error(
-            "projection \"map\" is a top-down view: it has one eye (use stereo=\"none\")",
-        ));
-    }
-    let out_image = if map {
-        None
-    } else {
-        Some(ImageSize::new(projection, width).map_err(|e| value_error(format!("width: {e}")))?)
-    };
-    let image = match &out_image {
+    let map = view.image.is_none();
+    let image = match &view.image {
         Some(out) => look.render_image(out).map_err(value_error)?,
-        None => ImageSize::equirect(width),
+        None => view.settings.image,
     };
     let options = PrepareOptions {
         camera: camera_choice,
         height: EyeHeight::new(height, scale.height(1.0)),
         up: cloud.up,
-        radius,
-        filter,
+        radius: view.radius,
+        filter: view.filter,
         origin: None,
         lod: Lod::Off,
     };
@@ -185,12 +160,7 @@ pub fn render(
         // Scenes are centred on the camera: it sits at the local origin.
         camera: Camera::new(DVec3::ZERO, finite("yaw", yaw)?)
             .with_orientation(finite("pitch", pitch)?, finite("roll", roll)?),
-        stereo: stereo.rig(scale.length(ipd), merging, offset),
-        color,
-        shading,
-        proxy: Default::default(),
-        imposter: Default::default(),
-        depth_map: None,
+        ..view.settings
     };
     let scene = Arc::clone(&cloud.scene);
     let name = cloud.name.clone();

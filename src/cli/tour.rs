@@ -14,7 +14,7 @@ use crate::projection::Image;
 use crate::render::RendererKind;
 use crate::renderer::Resident;
 use crate::tour::{
-    self, FrameFormat, RunOptions, Sampling, Shard, ShardChoice, TourRequest, shard,
+    self, FrameFormat, RunOptions, Sampling, Shard, ShardChoice, TourRequest, TourScan, shard,
 };
 
 use super::options::{DrawArgs, LookArgs, ViewArgs};
@@ -155,7 +155,6 @@ fn parse_height(s: &str) -> Result<f64, String> {
     crate::value::finite(s, "metres above the ground")
 }
 
-/// Runs `omnicloud tour`: lengths converted from `--units` to the scan's unit.
 /// Runs `omnicloud render --camera station:all -o DIR`: a tour of the file's stations, one
 /// panorama each, with `render`'s options (frames as PNG, resumable, `--shard` as a tour).
 pub fn run_stations(render: &RenderArgs, matches: &clap::ArgMatches) -> Result<()> {
@@ -198,9 +197,10 @@ pub fn run_stations(render: &RenderArgs, matches: &clap::ArgMatches) -> Result<(
     run(&tour, matches)
 }
 
-/// Runs `omnicloud tour`.
+/// Runs `omnicloud tour`: lengths converted from `--units` to the scan's unit.
 pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
-    let scale = given.view.length_scale(&crate::io::read_info(&given.file)?);
+    let info = crate::io::read_info(&given.file)?;
+    let scale = given.view.length_scale(&info);
     let args = &given.in_file_units(&scale);
     let say = |msg: String| {
         if !args.quiet {
@@ -237,7 +237,7 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
     check_memory(args)?;
 
     let request = TourRequest {
-        scan: args.file.clone(),
+        scan: TourScan::File(args.file.clone()),
         route: match &args.path {
             Some(p) => tour::Route::Path(p.clone()),
             None => tour::Route::Stations,
@@ -261,15 +261,12 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
     let planned = tour::plan(&request, &pb);
     pb.finish_and_clear();
     let planned = planned?;
-    super::notes::say_load_notes(&args.file, &planned.load_report, &say);
-    super::notes::say_units(
-        &planned.load_report.info,
-        &scale,
-        &given.given_lengths(),
-        &say,
-    );
+    if let Some(report) = &planned.load_report {
+        super::notes::say_load_notes(&args.file, report, &say);
+    }
+    super::notes::say_units(&info, &scale, &given.given_lengths(), &say);
     let total = planned.poses.len();
-    let unit = planned.load_report.info.length_symbol();
+    let unit = info.length_symbol();
     say(format!(
         "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {unit} through {} keyframes, \
          eye {:.2} {unit} above the ground where it gives no z: {total} frames (prepared in \

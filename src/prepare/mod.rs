@@ -162,7 +162,10 @@ pub fn prepare_files(
         return Err(FilterError::NothingLeft { counts: skipped }.into());
     }
     let load = LoadOptions {
-        origin: options.origin.or(options.camera.given()),
+        // A fixed origin is reached from the file's own, as points already in memory are
+        // moved onto it: one rounding for both, so a tour of a file and a tour of the same
+        // points read into memory give the same frames.
+        origin: options.camera.given().filter(|_| options.origin.is_none()),
         up: options.up,
         ..LoadOptions::default()
     };
@@ -174,7 +177,10 @@ pub fn prepare_files(
     let (scene, report, lod_read) = match lod::read(&paths, &read_infos, options, progress)? {
         Some((scene, report, lod_read)) => (scene, report, Some(lod_read)),
         None => {
-            let (scene, report) = load_files_with_progress(&paths, &load, progress)?;
+            let (mut scene, report) = load_files_with_progress(&paths, &load, progress)?;
+            if let Some(origin) = options.origin {
+                scene.recenter(origin);
+            }
             (scene, report, None)
         }
     };
@@ -222,10 +228,13 @@ pub struct PreparedScene {
 /// [`FilterError::MissingAttribute`] for a filter whose attribute the scene lacks,
 /// [`PrepareError::CameraPlacement`], or a filter that leaves no point.
 pub fn prepare_scene(
-    scene: Scene,
+    mut scene: Scene,
     options: &PrepareOptions,
     name: &Path,
 ) -> Result<PreparedScene, PrepareError> {
+    if let Some(origin) = options.origin {
+        scene.recenter(origin);
+    }
     let a = &scene.attributes;
     options
         .filter
@@ -266,7 +275,7 @@ fn place_and_filter(
         return Err(FilterError::NothingLeft { counts: filtered }.into());
     }
     let placed = match options.origin {
-        // The scene stays in the origin's frame, loaded there once (no second rounding).
+        // The scene is in the origin's frame already.
         Some(_) => {
             placement::camera_position(&scene, camera, options.height).map(|p| scene.origin + p)
         }

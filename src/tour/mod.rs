@@ -2,7 +2,7 @@
 //!
 //! [`path`] reads the keyframes (CSV or GeoJSON), [`spline`] draws the curve through them and
 //! measures its length, [`poses`] places the frames at constant speed with their headings,
-//! [`plan`](plan()) puts it together on a loaded scan, [`shard`] splits the frames across
+//! [`plan`](plan()) puts it together on a scan (a file, or points already in memory), [`shard`] splits the frames across
 //! processes, [`run`] renders and writes the frames (through the scan kept resident by
 //! [`crate::renderer`]), and [`manifest`] records them in `tour.json`.
 
@@ -16,11 +16,13 @@ pub mod spline;
 pub mod stations;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::{DVec3, Vec2};
 use indicatif::ProgressBar;
 
-use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare};
+use crate::io::FileInfo;
+use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare, prepare_scene};
 use crate::scene::Scene;
 
 pub use manifest::{FrameRecord, StereoLayout, TourManifest};
@@ -29,12 +31,40 @@ pub use poses::{Heading, Pose, Sampling};
 pub use run::{FrameFormat, RunOptions, RunReport, render_frames};
 pub use shard::{Shard, ShardChoice, ShardSource};
 
+/// The points a tour is laid out on.
+#[derive(Debug, Clone)]
+pub enum TourScan {
+    /// A LAS, LAZ, COPC or PLY file, loaded once and moved onto the tour's origin.
+    File(PathBuf),
+    /// Points already in memory, moved onto the tour's origin.
+    Points {
+        /// The points.
+        scene: Arc<Scene>,
+        /// Header facts of the file the points were read from, when they were: its bounds
+        /// check the keyframes and place the origin as a file's do (else the points' bounds).
+        info: Option<Box<FileInfo>>,
+        /// How the manifest and messages name the points.
+        name: PathBuf,
+    },
+}
+
+impl TourScan {
+    /// The file, or the name of the points.
+    pub fn name(&self) -> &Path {
+        match self {
+            TourScan::File(file) => file,
+            TourScan::Points { name, .. } => name,
+        }
+    }
+}
+
 /// What a tour is asked for.
 #[derive(Debug, Clone)]
 pub struct TourRequest {
     /// The scan.
-    pub scan: PathBuf,
-    /// Where the frames stand: along a path file's curve, or at an E57 survey's stations.
+    pub scan: TourScan,
+    /// Where the frames stand: along the curve through keyframes (a path file's or given in
+    /// memory), or at an E57 survey's stations.
     pub route: Route,
     /// How the scan is read (its `camera` and `origin` are the tour's to set).
     pub prepare: PrepareOptions,
@@ -57,17 +87,25 @@ pub struct TourRequest {
 /// Where a tour's frames stand.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Route {
-    /// Along the curve through a path file's keyframes (CSV or GeoJSON).
+    /// Along the curve through a path file's keyframes (CSV or GeoJSON, [`path::read_path`]).
     Path(PathBuf),
+    /// Along the curve through keyframes given in memory (each [`Keyframe::at`] names it in
+    /// messages).
+    Keyframes {
+        /// The keyframes, in file coordinates.
+        keyframes: Vec<Keyframe>,
+        /// How the manifest and messages name them.
+        name: PathBuf,
+    },
     /// One frame at each station of the E57 scan, with the station's heading.
     Stations,
 }
 
 impl std::fmt::Display for Route {
-    /// The path file, or `stations`.
+    /// The path file, the keyframes' name, or `stations`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Route::Path(p) => write!(f, "{}", p.display()),
+            Route::Path(p) | Route::Keyframes { name: p, .. } => write!(f, "{}", p.display()),
             Route::Stations => f.write_str("stations"),
         }
     }
@@ -88,8 +126,9 @@ pub struct Tour {
     pub eye_height: f64,
     /// Every frame's camera.
     pub poses: Vec<Pose>,
-    /// What loading the scan did (points dropped for bad coordinates).
-    pub load_report: crate::io::LoadReport,
+    /// What loading the scan file did (points dropped for bad coordinates); `None` for
+    /// points given in memory.
+    pub load_report: Option<crate::io::LoadReport>,
 }
 
 /// Why a tour could not be laid out.
@@ -107,15 +146,16 @@ pub enum TourError {
     /// The path is readable but not usable on this scan.
     #[error("{}: {message}", path.display())]
     BadPath {
-        /// The path file.
+        /// The path file, or the name of the keyframes.
         path: PathBuf,
         /// What is wrong, naming the line or feature.
         message: String,
     },
 }
 
-/// Reads the path, loads the scan once around a fixed origin (the centre of the path's
-/// keyframes, in whole metres) and places every frame on the curve. A path without heights
+/// Reads the path (or takes the keyframes given), loads the scan once around a fixed origin
+/// (the centre of the path's keyframes, in whole metres; points in memory are moved onto it)
+/// and places every frame on the curve. A path without heights
 /// walks `request.height` above the ground (sampled along the curve and smoothed; speed is
 /// then measured over the ground plan); a path with some heights puts the missing ones
 /// `request.height` above the ground under their keyframes.
@@ -124,15 +164,15 @@ pub enum TourError {
 /// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
 /// keyframe outside the scan's bounds, and the scan's loading errors.
 pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
-    let file = match &request.route {
-        Route::Path(file) => file,
-        Route::Stations => return plan_stations(request, progress),
-    };
     let bad = |message: String| TourError::BadPath {
-        path: file.clone(),
+        path: request.route.to_string().into(),
         message,
     };
-    let mut keyframes = path::read_path(file)?;
+    let mut keyframes = match &request.route {
+        Route::Path(file) => path::read_path(file)?,
+        Route::Keyframes { keyframes, .. } => keyframes.clone(),
+        Route::Stations => return plan_stations(request, progress),
+    };
     // Consecutive repeats (common in exported lines) add nothing to the curve.
     keyframes.dedup_by(|b, a| a.x == b.x && a.y == b.y && a.z == b.z);
     if keyframes.len() < 2 {
@@ -142,24 +182,37 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         )));
     }
 
-    let origin = path_origin(&keyframes, &request.scan);
+    let header = match &request.scan {
+        TourScan::File(file) => header_bounds(file),
+        TourScan::Points { scene, info, .. } => info
+            .as_ref()
+            .and_then(|info| plausible(info.bounds))
+            .or_else(|| scene.bounds().map(|(lo, hi)| world_bounds(scene, lo, hi))),
+    };
+    let origin = path_origin(&keyframes, header);
     let options = PrepareOptions {
         origin: Some(origin),
         camera: crate::prepare::CameraChoice::At(origin),
         ..request.prepare
     };
-    let prepared = prepare(&request.scan, &options, progress)?;
-    let (scene, load_report) = (prepared.scene, prepared.report);
+    let (scene, load_report) = match &request.scan {
+        TourScan::File(file) => {
+            let prepared = prepare(file, &options, progress)?;
+            (prepared.scene, Some(prepared.report))
+        }
+        TourScan::Points { scene, name, .. } => (
+            prepare_scene(Scene::clone(scene), &options, name)?.scene,
+            None,
+        ),
+    };
     // The header's bounds when it has them (the numbers `omnicloud info` shows; in file axes,
     // so not for a Y-up file), else the points'.
-    let header = (request.prepare.up == crate::io::Up::Z)
-        .then(|| header_bounds(&request.scan))
-        .flatten();
+    let header = header.filter(|_| request.prepare.up == crate::io::Up::Z);
     let (lo, hi) = header.unwrap_or_else(|| {
         let (lo, hi) = scene
             .bounds()
             .expect("a prepared scene has at least one point");
-        (origin + lo.as_dvec3(), origin + hi.as_dvec3())
+        world_bounds(&scene, lo, hi)
     });
     let height = request
         .height
@@ -182,7 +235,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
                 hi.x,
                 lo.y,
                 hi.y,
-                request.scan.display(),
+                request.scan.name().display(),
                 if degrees {
                     " (the path looks like longitude/latitude: export it in the scan's \
                      coordinate system)"
@@ -264,7 +317,16 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
 /// station's heading plus the request's offsets; the scan loaded once around the stations'
 /// centre (in whole metres). Arc lengths run along the straight legs between stations.
 fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
-    let stations = stations::read_stations(&request.scan)?;
+    let scan = match &request.scan {
+        TourScan::File(file) => file,
+        TourScan::Points { name, .. } => {
+            return Err(TourError::BadPath {
+                path: name.clone(),
+                message: "stations are read from an E57 file, not from points in memory".into(),
+            });
+        }
+    };
+    let stations = stations::read_stations(scan)?;
     let (lo, hi) = stations
         .iter()
         .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), s| {
@@ -276,7 +338,7 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
         camera: crate::prepare::CameraChoice::At(origin),
         ..request.prepare
     };
-    let prepared = prepare(&request.scan, &options, progress)?;
+    let prepared = prepare(scan, &options, progress)?;
     let mut arc_length = 0.0;
     let mut previous = stations.first().map(|s| s.position);
     let poses = stations
@@ -303,19 +365,29 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
         length: arc_length,
         eye_height,
         poses,
-        load_report: prepared.report,
+        load_report: Some(prepared.report),
     })
 }
 
 /// The XY-plausible bounds of the scan's header, file coordinates.
 fn header_bounds(scan: &Path) -> Option<(DVec3, DVec3)> {
-    let (lo, hi) = crate::io::open(scan).ok()?.info().bounds?;
+    plausible(crate::io::open(scan).ok()?.info().bounds)
+}
+
+/// `bounds` when they are finite and not inverted in XY.
+fn plausible(bounds: Option<(DVec3, DVec3)>) -> Option<(DVec3, DVec3)> {
+    let (lo, hi) = bounds?;
     (lo.is_finite() && hi.is_finite() && lo.x <= hi.x && lo.y <= hi.y).then_some((lo, hi))
 }
 
+/// Local bounds `lo`, `hi` of `scene` in file coordinates.
+fn world_bounds(scene: &Scene, lo: glam::Vec3, hi: glam::Vec3) -> (DVec3, DVec3) {
+    (scene.origin + lo.as_dvec3(), scene.origin + hi.as_dvec3())
+}
+
 /// The tour's local zero: the centre of the keyframes' bounds in whole metres; its height
-/// from the keyframes that give one, else from the scan header's bounds (0 without them).
-fn path_origin(keyframes: &[Keyframe], scan: &Path) -> DVec3 {
+/// from the keyframes that give one, else from the scan's `bounds` (0 without them).
+fn path_origin(keyframes: &[Keyframe], bounds: Option<(DVec3, DVec3)>) -> DVec3 {
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for k in keyframes.iter() {
         let p = DVec3::new(k.x, k.y, k.z.unwrap_or(f64::NAN));
@@ -324,7 +396,106 @@ fn path_origin(keyframes: &[Keyframe], scan: &Path) -> DVec3 {
     }
     let mut c = (lo + hi) * 0.5;
     if !c.z.is_finite() {
-        c.z = header_bounds(scan).map_or(0.0, |(lo, hi)| (lo.z + hi.z) * 0.5);
+        c.z = bounds.map_or(0.0, |(lo, hi)| (lo.z + hi.z) * 0.5);
     }
     c.round()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::{LoadOptions, load_files_with_progress};
+
+    const SCAN: &str = "data/autzen_trim.laz";
+    const WALK: &str = "data/tours/autzen_walk.csv";
+
+    fn request(scan: TourScan, route: Route) -> TourRequest {
+        TourRequest {
+            scan,
+            route,
+            prepare: PrepareOptions::default(),
+            height: EyeHeight::new(None, 1.0 / 0.3048),
+            sampling: Sampling::Frames(5),
+            heading_window: 2.0,
+            yaw_offset: 0.0,
+            pitch_offset: 0.0,
+            roll_offset: 0.0,
+        }
+    }
+
+    /// The sample read into memory as a caller holds it, with its header.
+    fn points() -> TourScan {
+        let file = PathBuf::from(SCAN);
+        let (scene, report) = load_files_with_progress(
+            std::slice::from_ref(&file),
+            &LoadOptions::default(),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        TourScan::Points {
+            scene: Arc::new(scene),
+            info: Some(Box::new(report.info)),
+            name: file,
+        }
+    }
+
+    #[test]
+    fn points_and_keyframes_in_memory_plan_the_tour_of_the_files() {
+        let from_files = plan(
+            &request(TourScan::File(SCAN.into()), Route::Path(WALK.into())),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        let keyframes = path::read_path(Path::new(WALK)).unwrap();
+        let in_memory = plan(
+            &request(
+                points(),
+                Route::Keyframes {
+                    keyframes,
+                    name: "walk".into(),
+                },
+            ),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        assert_eq!(from_files.origin, DVec3::new(636600.0, 849175.0, 463.0));
+        assert_eq!(in_memory.origin, from_files.origin);
+        // The same points after the same rounding: the same ground, so the same poses.
+        assert_eq!(in_memory.scene.positions, from_files.scene.positions);
+        assert_eq!(in_memory.poses, from_files.poses);
+        assert_eq!(in_memory.poses.len(), 5);
+        assert!(
+            (from_files.length - 461.0).abs() < 0.05,
+            "{}",
+            from_files.length
+        );
+        assert!(from_files.load_report.is_some() && in_memory.load_report.is_none());
+    }
+
+    #[test]
+    fn keyframes_off_the_points_are_refused_naming_the_keyframes() {
+        let keyframe = |x: f64, y: f64, at: &str| Keyframe {
+            x,
+            y,
+            z: None,
+            yaw: None,
+            pitch: 0.0,
+            roll: 0.0,
+            at: at.into(),
+        };
+        let path = Route::Keyframes {
+            keyframes: vec![
+                keyframe(636400.0, 849100.0, "row 0"),
+                keyframe(0.0, 0.0, "row 1"),
+            ],
+            name: "<path array>".into(),
+        };
+        let e = plan(&request(points(), path), &ProgressBar::hidden()).unwrap_err();
+        let message = e.to_string();
+        assert!(
+            message.starts_with("<path array>: row 1: (0, 0) lies outside the scan's bounds")
+                && message.contains(SCAN),
+            "{message}"
+        );
+    }
 }

@@ -11,6 +11,7 @@ use indicatif::ProgressBar;
 
 use super::manifest::{FrameRecord, MANIFEST_VERSION, StereoLayout, TourManifest, shell_line};
 use super::{Tour, TourRequest};
+use crate::Rendered;
 use crate::output::{self, Layout, OutputError, OutputOptions};
 use crate::projection::Camera;
 use crate::render::{Look, LookError, RenderSettings};
@@ -85,6 +86,37 @@ impl RunOptions {
             ..self.settings
         }
     }
+
+    /// How frame `index` of `tour` is written: top-bottom stereo, its heading and the
+    /// scan's unit in the metadata.
+    pub fn output_options(&self, tour: &Tour, index: usize) -> OutputOptions {
+        OutputOptions {
+            layout: Layout::TopBottom,
+            jpeg_quality: self.jpeg_quality,
+            yaw_degrees: tour.poses[index].yaw,
+            projection: self.settings.image.projection,
+            metres_per_unit: self.metres_per_unit,
+        }
+    }
+}
+
+/// Frame `index` of `tour` rendered with `resident`, the look applied: the image
+/// [`render_frames`] writes (under [`RunOptions::output_options`]).
+pub fn render_frame(
+    tour: &Tour,
+    resident: &Resident<'_>,
+    options: &RunOptions,
+    index: usize,
+) -> Result<Rendered, RunError> {
+    let image = options.look.render_image(&options.settings.image)?;
+    let settings = options.frame_settings(tour, index);
+    let rendered = resident
+        .render(
+            &RenderSettings { image, ..settings },
+            &ProgressBar::hidden(),
+        )
+        .map_err(|source| RunError::Render { index, source })?;
+    Ok(options.look.finish(rendered))
 }
 
 /// What [`render_frames`] did.
@@ -155,7 +187,7 @@ pub fn manifest(request: &TourRequest, tour: &Tour, options: &RunOptions) -> Tou
         .collect();
     TourManifest {
         version: MANIFEST_VERSION,
-        scan: request.scan.display().to_string(),
+        scan: request.scan.name().display().to_string(),
         path: request.route.to_string(),
         fps: options.fps,
         speed: match request.sampling {
@@ -195,27 +227,11 @@ pub fn render_frames(
 ) -> Result<RunReport, RunError> {
     let mut report = RunReport::default();
     progress.set_length(todo.len() as u64);
-    let layout = Layout::TopBottom;
-    let image = options.look.render_image(&options.settings.image)?;
     for &index in todo {
         let started = Instant::now();
-        let settings = options.frame_settings(tour, index);
-        let rendered = resident
-            .render(
-                &RenderSettings { image, ..settings },
-                &ProgressBar::hidden(),
-            )
-            .map_err(|source| RunError::Render { index, source })?;
-        let rendered = options.look.finish(rendered);
-        let out = OutputOptions {
-            layout,
-            jpeg_quality: options.jpeg_quality,
-            yaw_degrees: settings.camera.yaw_deg,
-            projection: settings.image.projection,
-            metres_per_unit: options.metres_per_unit,
-        };
+        let rendered = render_frame(tour, resident, options, index)?;
         let path = options.frame_path(index);
-        output::write_image_with(&path, &rendered, &out)?;
+        output::write_image_with(&path, &rendered, &options.output_options(tour, index))?;
         resident.recycle(rendered);
         let took = started.elapsed();
         report.busy += took;
