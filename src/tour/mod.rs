@@ -90,6 +90,8 @@ pub struct Tour {
     pub poses: Vec<Pose>,
     /// What loading the scan did (points dropped for bad coordinates).
     pub load_report: crate::io::LoadReport,
+    /// For a tour of a survey's stations: the station each frame stands at, in frame order.
+    pub stations: Vec<crate::frames::StationMark>,
 }
 
 /// Why a tour could not be laid out.
@@ -257,6 +259,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         eye_height: height,
         poses,
         load_report,
+        stations: Vec::new(),
     })
 }
 
@@ -304,6 +307,16 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
         eye_height,
         poses,
         load_report: prepared.report,
+        stations: stations
+            .iter()
+            .enumerate()
+            .map(|(frame, s)| crate::frames::StationMark {
+                frame,
+                scan: s.index,
+                name: s.name.clone(),
+                position: s.position.to_array(),
+            })
+            .collect(),
     })
 }
 
