@@ -463,7 +463,10 @@ fn a_station_folder_lists_and_maps_its_stations_and_a_click_shows_one() {
     let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
     let (w, h) = page_size(&tab);
     let centre = |tab: &Tab| screenshot(tab).get_pixel(w / 2, h / 2).0;
-    assert_eq!(js(&tab, "document.getElementById('stations').hidden"), false);
+    assert_eq!(
+        js(&tab, "document.getElementById('stations').hidden"),
+        false
+    );
     assert_eq!(
         js(
             &tab,

@@ -173,7 +173,10 @@ fn station_all_writes_a_resumable_tour_folder() {
     );
     // The stations the viewer lists: each scan's name, position and frame.
     let stations = manifest["stations"].as_array().unwrap();
-    let names: Vec<&str> = stations.iter().map(|s| s["name"].as_str().unwrap()).collect();
+    let names: Vec<&str> = stations
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
     assert_eq!(names, ["North", "South"]);
     assert_eq!(stations[1]["frame"], 1);
     assert_eq!(stations[1]["scan"], 1);

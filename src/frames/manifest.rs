@@ -122,8 +122,11 @@ pub fn parse_manifest(path: &Path, text: &str) -> Result<TourInfo, FramesError> 
     };
     let stations = match json.get("stations") {
         None | Some(serde_json::Value::Null) => Vec::new(),
-        Some(v) => serde_json::from_value(v.clone())
-            .map_err(|e| bad(format!("stations: {e}: expected a list of {{frame, scan, name, position}}")))?,
+        Some(v) => serde_json::from_value(v.clone()).map_err(|e| {
+            bad(format!(
+                "stations: {e}: expected a list of {{frame, scan, name, position}}"
+            ))
+        })?,
     };
     Ok(TourInfo {
         path: path.to_path_buf(),

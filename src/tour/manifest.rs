@@ -156,6 +156,9 @@ mod tests {
             ..m
         };
         let json = serde_json::to_string(&stations).unwrap();
-        assert_eq!(serde_json::from_str::<TourManifest>(&json).unwrap(), stations);
+        assert_eq!(
+            serde_json::from_str::<TourManifest>(&json).unwrap(),
+            stations
+        );
     }
 }

@@ -370,7 +370,9 @@ mod tests {
         assert_eq!(names, [Some("North"), Some("South")]);
         let json = serde_json::to_string(&p.info()).unwrap();
         assert!(
-            json.contains(r#""stations":[{"frame":0,"scan":0,"name":"North","position":[10.0,20.0,1.5]}"#),
+            json.contains(
+                r#""stations":[{"frame":0,"scan":0,"name":"North","position":[10.0,20.0,1.5]}"#
+            ),
             "{json}"
         );
     }

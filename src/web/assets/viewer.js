@@ -6,6 +6,9 @@
 // An MP4 (`/video`) plays through a <video> element whose current frame is uploaded as the
 // texture each time it changes; the frame slider seeks it to the middle of frame N.
 //
+// A folder of a survey's stations (/api/info lists them) gets a list and a top-down map of
+// the stations; picking one shows its frame.
+//
 // Space of the rays: x right, y up, -z forward (WebXR's reference space), so for a
 // panorama direction d: longitude = atan2(d.x, -d.z), latitude = asin(d.y).
 'use strict';
