@@ -404,6 +404,8 @@ fn a_tour_folder_steps_and_plays_through_its_frames() {
         js(&tab, "document.getElementById('frame-label').textContent"),
         "2 / 3"
     );
+    // An ordinary tour has no stations to hop between.
+    assert_eq!(js(&tab, "document.getElementById('stations').hidden"), true);
 
     js(&tab, "viewer.setFrame(2)");
     assert_eq!(&centre(&tab)[..3], &colours[2]);
@@ -435,6 +437,88 @@ fn a_tour_folder_steps_and_plays_through_its_frames() {
         "new Promise((r) => setTimeout(r, 300)).then(() => viewer.frame())",
     );
     assert_eq!(held, later, "paused playback still advances");
+}
+
+#[test]
+fn a_station_folder_lists_and_maps_its_stations_and_a_click_shows_one() {
+    let Some(path) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let colours = [[200u8, 30, 30], [30, 30, 200]];
+    for (k, c) in colours.iter().enumerate() {
+        RgbImage::from_pixel(256, 128, Rgb(*c))
+            .save(dir.path().join(format!("frame_{k:06}.png")))
+            .unwrap();
+    }
+    // What `render FILE.e57 --camera station:all` records: North in the north-east, South
+    // to the south-west of it.
+    std::fs::write(
+        dir.path().join("tour.json"),
+        r#"{"version": 1, "path": "stations", "fps": 30, "frames": [{}, {}], "stations": [
+            {"frame": 0, "scan": 0, "name": "North", "position": [10, 20, 1.5]},
+            {"frame": 1, "scan": 1, "name": "South", "position": [-5, 3, 0.5]}]}"#,
+    )
+    .unwrap();
+    let server = serve(dir.path());
+    let chromium = launch(path);
+    let tab = open_viewer(&chromium, &format!("http://{}/", server.addr()), None);
+    let (w, h) = page_size(&tab);
+    let centre = |tab: &Tab| screenshot(tab).get_pixel(w / 2, h / 2).0;
+    assert_eq!(
+        js(&tab, "document.getElementById('stations').hidden"),
+        false
+    );
+    assert_eq!(
+        js(
+            &tab,
+            "[...document.querySelectorAll('#station-list button')].map((b) => b.textContent)"
+        ),
+        serde_json::json!(["North", "South"])
+    );
+    // The markers keep the plan: South lies left of and below North.
+    let markers = js(
+        &tab,
+        "[...document.querySelectorAll('#station-map circle')].map((c) =>          [Number(c.getAttribute('cx')), Number(c.getAttribute('cy'))])",
+    );
+    let markers: Vec<[f64; 2]> = serde_json::from_value(markers).unwrap();
+    assert_eq!(markers.len(), 2);
+    assert!(
+        markers[1][0] < markers[0][0] && markers[1][1] > markers[0][1],
+        "{markers:?}"
+    );
+    assert_eq!(js(&tab, "viewer.frame()"), 0);
+    assert_eq!(&centre(&tab)[..3], &colours[0]);
+
+    // A click on the second marker shows the second station's panorama.
+    tab.find_element("#station-map circle:nth-of-type(2)")
+        .unwrap()
+        .click()
+        .unwrap();
+    let wait_frame = |n: u32| {
+        js(
+            &tab,
+            &format!(
+                "new Promise((resolve) => {{ const wait = () => viewer.frame() === {n} ? \
+                 requestAnimationFrame(() => requestAnimationFrame(() => resolve(true))) : \
+                 setTimeout(wait, 10); wait(); }})"
+            ),
+        )
+    };
+    wait_frame(1);
+    assert_eq!(&centre(&tab)[..3], &colours[1]);
+    assert_eq!(
+        js(
+            &tab,
+            "document.querySelector('#station-map circle.current').dataset.frame"
+        ),
+        "1"
+    );
+    // And the list's first entry goes back to the first.
+    tab.find_element("#station-list li:nth-of-type(1) button")
+        .unwrap()
+        .click()
+        .unwrap();
+    wait_frame(0);
+    assert_eq!(&centre(&tab)[..3], &colours[0]);
 }
 
 /// Colour of frame `k` of the video test, left eye (`eye` 0) or right: red counts frames.

@@ -171,6 +171,16 @@ fn station_all_writes_a_resumable_tour_folder() {
         p1.iter().zip(POSE1_T).all(|(a, b)| (a - b).abs() < 1e-3),
         "{p1:?}"
     );
+    // The stations the viewer lists: each scan's name, position and frame.
+    let stations = manifest["stations"].as_array().unwrap();
+    let names: Vec<&str> = stations
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["North", "South"]);
+    assert_eq!(stations[1]["frame"], 1);
+    assert_eq!(stations[1]["scan"], 1);
+    assert_eq!(stations[1]["position"], serde_json::json!(POSE1_T));
     assert!(out.join("frame_000000.png").exists() && out.join("frame_000001.png").exists());
     // A second run finds both frames and renders nothing.
     let again = omnicloud(&args);

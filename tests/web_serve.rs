@@ -5,6 +5,7 @@
 //! skip loudly, and fail under `OMNICLOUD_REQUIRE_GPU=1`.
 #![cfg(all(feature = "web", feature = "gpu"))]
 
+mod e57_common;
 mod http_common;
 mod serve_common;
 
@@ -353,4 +354,46 @@ fn the_command_prints_its_address_serves_and_stops_on_ctrl_c() {
         stderr.contains("warning: listening on 0.0.0.0:"),
         "{stderr}"
     );
+}
+
+/// `omnicloud serve --scan 1` on a two-scan E57 survey serves that scan only: its 648
+/// points (18 rows x 36 columns), not the other's 3125 as well, around that scan's bounds.
+#[cfg(all(unix, feature = "cli"))]
+#[test]
+fn the_command_serves_only_the_scans_scan_picks() {
+    if shared().is_none() {
+        return; // no adapter: the command would refuse to start
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let site = dir.path().join("site.e57");
+    e57_common::write_site(&site);
+    let serve = |pick: &[&str]| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"));
+        command
+            .args(["serve", "--port", "0", "--width", "64", "--map-size", "64"])
+            .args(["--radius", "0.2"])
+            .args(pick)
+            .arg(&site);
+        let server = http_common::ServerProcess::start(command);
+        let scan: serde_json::Value =
+            serde_json::from_slice(&get(server.addr, "/api/scan").body).unwrap();
+        server.interrupt();
+        scan
+    };
+    let south = serve(&["--scan", "1"]);
+    assert_eq!(south["points"], 648, "{south}");
+    // Scan 1's points lie within 3 + 1.5 + 1.7 m of its station.
+    let max: Vec<f64> = serde_json::from_value(south["max"].clone()).unwrap();
+    let min: Vec<f64> = serde_json::from_value(south["min"].clone()).unwrap();
+    for axis in 0..2 {
+        let t = e57_common::POSE1_T[axis];
+        assert!(
+            min[axis] > t - 6.3 && max[axis] < t + 6.3,
+            "{min:?} .. {max:?}"
+        );
+    }
+    let by_name = serve(&["--scan", "South"]);
+    assert_eq!(by_name["points"], 648, "{by_name}");
+    let all = serve(&[]);
+    assert_eq!(all["points"], 648 + 3125, "{all}");
 }

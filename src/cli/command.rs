@@ -63,6 +63,7 @@ impl Command {
                 a.view.resolve_station(&a.file)?;
             }
             Command::Tour(a) => a.file = a.draw.colour_path(&a.view.scan_path(&a.file)),
+            Command::Serve(a) => a.file = super::options::scan_path(a.scan.as_ref(), &a.file),
             Command::Bench(a) => {
                 a.scene = a.scene.as_ref().map(|f| a.view.scan_path(f));
                 if let Some(scene) = &a.scene {

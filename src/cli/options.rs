@@ -112,6 +112,14 @@ pub struct ViewArgs {
     pub scale: Option<LengthScale>,
 }
 
+/// `file` with the scans `scan` picks (`FILE#scan:..`); as it is without a pick.
+pub fn scan_path(scan: Option<&ScanSelection>, file: &std::path::Path) -> std::path::PathBuf {
+    match scan {
+        Some(selection) => crate::io::e57::select::with_scans(file, selection),
+        None => file.to_path_buf(),
+    }
+}
+
 impl ViewArgs {
     /// `--camera station:N` as the station's position, its heading added to `--yaw`; other
     /// choices (and `station:all`, a folder of panoramas) are left as they are.
@@ -132,10 +140,7 @@ impl ViewArgs {
 
     /// `file` with the scans `--scan` picks (`FILE#scan:..`); as it is without `--scan`.
     pub fn scan_path(&self, file: &std::path::Path) -> std::path::PathBuf {
-        match &self.scan {
-            Some(selection) => crate::io::e57::select::with_scans(file, selection),
-            None => file.to_path_buf(),
-        }
+        scan_path(self.scan.as_ref(), file)
     }
 
     /// The scale from `--units` to the coordinates of `info`'s file.

@@ -8,6 +8,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use crate::io::Up;
+use crate::io::e57::ScanSelection;
 use crate::prepare::{EyeHeight, LengthScale, PrepareOptions, RadiusChoice, Units, prepare};
 use crate::projection::Stereo;
 use crate::render::{ColorMode, Shading};
@@ -19,8 +20,12 @@ use super::{parse, progress, view};
 /// Options of `omnicloud serve`.
 #[derive(Debug, Args)]
 pub struct ServeArgs {
-    /// A LAS, LAZ or PLY file.
+    /// A LAS, LAZ, PLY or E57 file.
     pub file: PathBuf,
+    /// E57 scans to read, by index (from 0) or name, e.g. 0,2 or Hall [default: all]. The
+    /// same as naming the file FILE#scan:0,2.
+    #[arg(long, value_name = "N|NAME[,..]")]
+    pub scan: Option<ScanSelection>,
     /// Address to listen on: 127.0.0.1 keeps it on this machine; 0.0.0.0 lets a headset on
     /// the network reach it (and everyone else there).
     #[arg(long, default_value = "127.0.0.1")]

@@ -3,11 +3,12 @@
 //!
 //! It is read leniently: `fps`, `stereo_layout` or `stereo` (`"top-bottom"`/`"ods"` or
 //! `"mono"`) and `frames` (a list or a count), at the top level or under `settings` or
-//! `render`. What it holds beyond that is the tour's ([`crate::tour::TourManifest`]).
+//! `render`, and the `stations` a survey's station run records. What it holds beyond that is
+//! the tour's ([`crate::tour::TourManifest`]).
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::FramesError;
 use crate::output::{OutputError, StereoLayout, write_atomically};
@@ -26,6 +27,22 @@ pub struct TourInfo {
     pub stereo: Option<StereoLayout>,
     /// How many frames it has.
     pub frames: Option<usize>,
+    /// The survey stations its frames stand at (empty for a tour along a path).
+    pub stations: Vec<StationMark>,
+}
+
+/// One station of a survey and the frame rendered there, as `tour.json` lists them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StationMark {
+    /// The frame shot at the station, from 0.
+    pub frame: usize,
+    /// The scan's index in its file, from 0.
+    pub scan: usize,
+    /// The scan's name, when it has one.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The scanner's position, file coordinates.
+    pub position: [f64; 3],
 }
 
 /// Writes `manifest` as pretty JSON to `dir/tour.json`, atomically; returns the path.
@@ -103,11 +120,20 @@ pub fn parse_manifest(path: &Path, text: &str) -> Result<TourInfo, FramesError> 
             None => return Err(bad(format!("frames is {v}: expected a list or a count"))),
         },
     };
+    let stations = match json.get("stations") {
+        None | Some(serde_json::Value::Null) => Vec::new(),
+        Some(v) => serde_json::from_value(v.clone()).map_err(|e| {
+            bad(format!(
+                "stations: {e}: expected a list of {{frame, scan, name, position}}"
+            ))
+        })?,
+    };
     Ok(TourInfo {
         path: path.to_path_buf(),
         fps,
         stereo,
         frames,
+        stations,
     })
 }
 
@@ -136,5 +162,26 @@ mod tests {
             e.contains("tour.json: the stereo layout is \"sideways\""),
             "{e}"
         );
+        assert!(info.stations.is_empty());
+    }
+
+    #[test]
+    fn stations_read_back_and_bad_ones_are_named() {
+        let path = Path::new("stations/tour.json");
+        let info = parse_manifest(
+            path,
+            r#"{"frames": [{}, {}], "stations": [
+                {"frame": 0, "scan": 0, "name": "North", "position": [10, 20, 1.5]},
+                {"frame": 1, "scan": 1, "position": [-5, 3, 0.5]}]}"#,
+        )
+        .unwrap();
+        assert_eq!(info.stations.len(), 2);
+        assert_eq!(info.stations[0].name.as_deref(), Some("North"));
+        assert_eq!(info.stations[1].name, None);
+        assert_eq!(info.stations[1].position, [-5.0, 3.0, 0.5]);
+        let e = parse_manifest(path, r#"{"stations": [{"frame": "x"}]}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("tour.json: stations:"), "{e}");
     }
 }

@@ -13,7 +13,7 @@ use std::path::Path;
 pub use error::FramesError;
 pub use folder::{FrameFolder, StereoChoice, StereoSource};
 pub use listing::{dimensions, numbered_frames, one_size, read_rgb, sequence};
-pub use manifest::{MANIFEST_NAME, TourInfo, read_manifest, write_manifest};
+pub use manifest::{MANIFEST_NAME, StationMark, TourInfo, read_manifest, write_manifest};
 
 /// The file name of frame `index` with extension `ext`: `frame_000042.png`.
 pub fn frame_file_name(index: usize, ext: &str) -> String {

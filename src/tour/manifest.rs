@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::poses::Pose;
-use crate::frames::{FramesError, write_manifest};
+use crate::frames::{FramesError, StationMark, write_manifest};
 pub use crate::output::StereoLayout;
 
 /// Version of the manifest's layout.
@@ -64,6 +64,10 @@ pub struct TourManifest {
     pub render_options: Vec<String>,
     /// Every frame, in order.
     pub frames: Vec<FrameRecord>,
+    /// For a tour of a survey's stations: each station's scan, name, position and frame
+    /// (absent, so empty, for a tour along a path).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub stations: Vec<StationMark>,
 }
 
 impl TourManifest {
@@ -135,10 +139,26 @@ mod tests {
                 },
                 command: "omnicloud render".into(),
             }],
+            stations: Vec::new(),
         };
         let json = serde_json::to_string(&m).unwrap();
         assert!(json.contains("\"stereo_layout\":\"top-bottom\""), "{json}");
         assert!(json.contains("\"yaw\":90.0"), "{json}");
         assert_eq!(serde_json::from_str::<TourManifest>(&json).unwrap(), m);
+        assert!(!json.contains("stations"), "{json}");
+        let stations = TourManifest {
+            stations: vec![StationMark {
+                frame: 0,
+                scan: 1,
+                name: Some("South".into()),
+                position: [1.0, 2.0, 3.5],
+            }],
+            ..m
+        };
+        let json = serde_json::to_string(&stations).unwrap();
+        assert_eq!(
+            serde_json::from_str::<TourManifest>(&json).unwrap(),
+            stations
+        );
     }
 }

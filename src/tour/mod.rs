@@ -129,6 +129,8 @@ pub struct Tour {
     /// What loading the scan file did (points dropped for bad coordinates); `None` for
     /// points given in memory.
     pub load_report: Option<crate::io::LoadReport>,
+    /// For a tour of a survey's stations: the station each frame stands at, in frame order.
+    pub stations: Vec<crate::frames::StationMark>,
 }
 
 /// Why a tour could not be laid out.
@@ -310,6 +312,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         eye_height: height,
         poses,
         load_report,
+        stations: Vec::new(),
     })
 }
 
@@ -366,6 +369,16 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
         eye_height,
         poses,
         load_report: Some(prepared.report),
+        stations: stations
+            .iter()
+            .enumerate()
+            .map(|(frame, s)| crate::frames::StationMark {
+                frame,
+                scan: s.index,
+                name: s.name.clone(),
+                position: s.position.to_array(),
+            })
+            .collect(),
     })
 }
 

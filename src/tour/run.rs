@@ -207,6 +207,7 @@ pub fn manifest(request: &TourRequest, tour: &Tour, options: &RunOptions) -> Tou
         origin: o.to_array(),
         render_options: options.render_command.iter().skip(2).cloned().collect(),
         frames,
+        stations: tour.stations.clone(),
     }
 }
 

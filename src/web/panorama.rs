@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::WebError;
-use crate::frames::{FramesError, numbered_frames, one_size};
+use crate::frames::{FramesError, StationMark, numbered_frames, one_size, read_manifest};
 use crate::output::{StoredEyes, read_description};
 
 /// Mono equirect (2:1) or an ODS pair, left eye on top (1:1).
@@ -86,6 +86,9 @@ pub struct Panorama {
     pub frames: Vec<FrameFile>,
     /// For an MP4: its frame count and rate.
     pub video: Option<VideoTrack>,
+    /// For a folder of a survey's stations (its `tour.json` lists them): each station and
+    /// its frame.
+    pub stations: Vec<StationMark>,
 }
 
 /// What the page needs to know of an MP4 to step through it.
@@ -111,6 +114,9 @@ pub struct PanoramaInfo {
     /// For an MP4 (served at `/video`): its frame count and rate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub video: Option<VideoTrack>,
+    /// For a folder of a survey's stations: each station's frame, scan, name and position.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub stations: Vec<StationMark>,
 }
 
 impl Panorama {
@@ -122,7 +128,15 @@ impl Panorama {
             source,
         };
         if std::fs::metadata(path).map_err(read)?.is_dir() {
-            Self::from_frames(path, folder_frames(path)?)
+            let mut panorama = Self::from_frames(path, folder_frames(path)?)?;
+            let count = panorama.frames.len();
+            panorama.stations = read_manifest(path)?
+                .map(|tour| tour.stations)
+                .unwrap_or_default()
+                .into_iter()
+                .filter(|s| s.frame < count)
+                .collect();
+            Ok(panorama)
         } else {
             let Some(image_type) = ImageType::of(path) else {
                 return Err(WebError::NotAnImage {
@@ -158,6 +172,7 @@ impl Panorama {
             height,
             frames,
             video: None,
+            stations: Vec::new(),
         })
     }
 
@@ -202,6 +217,7 @@ impl Panorama {
                 frames: info.frames,
                 fps: info.fps,
             }),
+            stations: Vec::new(),
         })
     }
 
@@ -226,6 +242,7 @@ impl Panorama {
             height: self.height,
             frames: self.frame_count(),
             video: self.video,
+            stations: self.stations.clone(),
         }
     }
 }
@@ -326,6 +343,38 @@ mod tests {
             ["frame_000000.png", "frame_000001.png", "frame_000002.png"]
         );
         assert_eq!((p.kind, p.width, p.height), (PanoramaKind::Mono, 8, 4));
+    }
+
+    #[test]
+    fn a_station_folder_lists_its_stations_in_the_info() {
+        let dir = tempfile::tempdir().unwrap();
+        for k in 0..2 {
+            image::RgbImage::new(8, 4)
+                .save(dir.path().join(format!("frame_{k:06}.png")))
+                .unwrap();
+        }
+        let plain = Panorama::open(dir.path()).unwrap();
+        assert!(plain.stations.is_empty());
+        let json = serde_json::to_string(&plain.info()).unwrap();
+        assert!(!json.contains("stations"), "{json}");
+        std::fs::write(
+            dir.path().join("tour.json"),
+            r#"{"frames": [{}, {}], "stations": [
+                {"frame": 0, "scan": 0, "name": "North", "position": [10, 20, 1.5]},
+                {"frame": 1, "scan": 1, "name": "South", "position": [-5, 3, 0.5]},
+                {"frame": 2, "scan": 2, "name": "Gone", "position": [0, 0, 0]}]}"#,
+        )
+        .unwrap();
+        let p = Panorama::open(dir.path()).unwrap();
+        let names: Vec<_> = p.stations.iter().map(|s| s.name.as_deref()).collect();
+        assert_eq!(names, [Some("North"), Some("South")]);
+        let json = serde_json::to_string(&p.info()).unwrap();
+        assert!(
+            json.contains(
+                r#""stations":[{"frame":0,"scan":0,"name":"North","position":[10.0,20.0,1.5]}"#
+            ),
+            "{json}"
+        );
     }
 
     #[test]

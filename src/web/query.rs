@@ -94,6 +94,7 @@ mod tests {
             height: 4,
             frames: vec![frame; frames],
             video: None,
+            stations: Vec::new(),
         }
     }
 

@@ -179,6 +179,7 @@ mod tests {
             height: 8,
             frames: vec![frame(0), frame(1)],
             video: None,
+            stations: Vec::new(),
         }
     }
 
@@ -195,6 +196,7 @@ mod tests {
                 frames: 12,
                 fps: 24.0,
             }),
+            stations: Vec::new(),
         }
     }
 

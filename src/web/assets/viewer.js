@@ -6,6 +6,9 @@
 // An MP4 (`/video`) plays through a <video> element whose current frame is uploaded as the
 // texture each time it changes; the frame slider seeks it to the middle of frame N.
 //
+// A folder of a survey's stations (/api/info lists them) gets a list and a top-down map of
+// the stations; picking one shows its frame.
+//
 // Space of the rays: x right, y up, -z forward (WebXR's reference space), so for a
 // panorama direction d: longitude = atan2(d.x, -d.z), latitude = asin(d.y).
 'use strict';
@@ -377,8 +380,61 @@
     state.frame = n;
     $('frame').value = String(n);
     $('frame-label').textContent = `${n + 1} / ${count}`;
+    markStation(n);
     for (let k = 1; k <= 2 && count > 1; k++) bitmap((n + k) % count).catch(() => {});
     await requestDraw();
+  }
+
+  // ---- stations: a survey's folder lists where each frame was shot ----
+
+  const SVG = 'http://www.w3.org/2000/svg';
+
+  // The list and the top-down map of the stations /api/info names; picking one shows its
+  // frame. The map keeps the plan's proportions: +x right, +y up.
+  function setUpStations(stations) {
+    const list = $('station-list');
+    const map = $('station-map');
+    const xs = stations.map((s) => s.position[0]);
+    const ys = stations.map((s) => s.position[1]);
+    const x0 = Math.min(...xs), y0 = Math.min(...ys);
+    const span = Math.max(Math.max(...xs) - x0, Math.max(...ys) - y0) || 1;
+    const MARGIN = 10;
+    const scale = (100 - 2 * MARGIN) / span;
+    // Centre the smaller extent.
+    const dx = (100 - 2 * MARGIN - (Math.max(...xs) - x0) * scale) / 2;
+    const dy = (100 - 2 * MARGIN - (Math.max(...ys) - y0) * scale) / 2;
+    for (const s of stations) {
+      const label = s.name || `scan ${s.scan}`;
+      const pick = () => showFrame(s.frame).catch(() => {});
+      const item = document.createElement('li');
+      const button = document.createElement('button');
+      button.type = 'button';
+      button.textContent = label;
+      button.dataset.frame = String(s.frame);
+      button.addEventListener('click', pick);
+      item.appendChild(button);
+      list.appendChild(item);
+      const marker = document.createElementNS(SVG, 'circle');
+      marker.setAttribute('cx', String(MARGIN + dx + (s.position[0] - x0) * scale));
+      marker.setAttribute('cy', String(100 - MARGIN - dy - (s.position[1] - y0) * scale));
+      marker.setAttribute('r', '4');
+      marker.dataset.frame = String(s.frame);
+      const title = document.createElementNS(SVG, 'title');
+      title.textContent = label;
+      marker.appendChild(title);
+      marker.addEventListener('click', pick);
+      map.appendChild(marker);
+    }
+    $('stations').hidden = false;
+  }
+
+  // Highlights the station of frame n, if it has one.
+  function markStation(n) {
+    for (const el of document.querySelectorAll('#station-list button, #station-map circle')) {
+      const here = Number(el.dataset.frame) === n;
+      if (el.tagName === 'BUTTON') el.setAttribute('aria-current', String(here));
+      else el.classList.toggle('current', here);
+    }
   }
 
   // ---- playback ----
@@ -626,6 +682,7 @@
       $('tour').hidden = false;
       $('frame').max = String(frames - 1);
     }
+    if (viewer.info.stations) setUpStations(viewer.info.stations);
     if (viewer.info.video) {
       // A video plays at its own rate.
       $('fps').parentElement.hidden = true;
