@@ -4,11 +4,12 @@
 use indicatif::ProgressBar;
 
 use crate::frame::Rendered;
-use crate::render::{ColorMode, RenderSettings, base_colors};
+use crate::render::{ColorMode, ColorRule, RenderSettings};
 use crate::scene::Scene;
 
 use super::chunk::{GpuChunk, GpuPoint, pack_color};
 use super::error::RasterError;
+use super::raster_frame::RasterFrame;
 use super::rasterizer::Rasterizer;
 use super::stats::RasterStats;
 use super::timing::FrameTiming;
@@ -31,6 +32,29 @@ impl UploadedScene {
     /// True when no point was uploaded.
     pub fn is_empty(&self) -> bool {
         self.points == 0
+    }
+
+    /// Bytes its buffers take on the GPU.
+    pub fn gpu_bytes(&self) -> u64 {
+        let per_point = (size_of::<GpuPoint>() + size_of::<u32>()) as u64;
+        self.chunks
+            .iter()
+            .map(|c| u64::from(c.capacity))
+            .sum::<u64>()
+            * per_point
+    }
+
+    /// Draws these points into `frame`, one frame's piece among others uploaded alike.
+    pub(crate) fn draw_into(
+        &self,
+        frame: &mut RasterFrame<'_>,
+        progress: &ProgressBar,
+    ) -> Result<(), RasterError> {
+        frame.set_points_origin(self.points_origin);
+        for chunk in &self.chunks {
+            frame.draw(chunk, progress)?;
+        }
+        Ok(())
     }
 }
 
@@ -55,7 +79,22 @@ impl Rasterizer {
         scene: &Scene,
         settings: &RenderSettings,
     ) -> Result<UploadedScene, RasterError> {
-        let colors = base_colors(scene, settings.color)?;
+        self.upload_colored(
+            scene,
+            settings,
+            ColorRule::for_scene(scene, settings.color)?,
+        )
+    }
+
+    /// [`Rasterizer::upload`] with colours from `color` rather than measured on `scene`:
+    /// pieces of one cloud uploaded apart colour alike.
+    pub fn upload_colored(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        color: ColorRule,
+    ) -> Result<UploadedScene, RasterError> {
+        let colors = color.colors(scene)?;
         let c = settings.camera.center;
         let per_chunk = self.points_per_chunk() as usize;
         let mut chunks = Vec::new();
