@@ -9,7 +9,6 @@ use crate::scene::Scene;
 
 use super::chunk::{GpuChunk, GpuPoint, pack_color};
 use super::error::RasterError;
-use super::raster_frame::RasterFrame;
 use super::rasterizer::Rasterizer;
 use super::stats::RasterStats;
 use super::timing::FrameTiming;
@@ -42,19 +41,6 @@ impl UploadedScene {
             .map(|c| u64::from(c.capacity))
             .sum::<u64>()
             * per_point
-    }
-
-    /// Draws these points into `frame`, one frame's piece among others uploaded alike.
-    pub(crate) fn draw_into(
-        &self,
-        frame: &mut RasterFrame<'_>,
-        progress: &ProgressBar,
-    ) -> Result<(), RasterError> {
-        frame.set_points_origin(self.points_origin);
-        for chunk in &self.chunks {
-            frame.draw(chunk, progress)?;
-        }
-        Ok(())
     }
 }
 
@@ -140,5 +126,80 @@ impl Rasterizer {
             frame.draw(chunk, progress)?;
         }
         frame.finish()
+    }
+
+    /// Renders pieces of one cloud uploaded apart (each by [`Rasterizer::upload_colored`]
+    /// under the same settings, so relative to the same point and coloured alike), gathered
+    /// on the GPU into batches of up to one chunk: a frame then costs a draw per batch, not
+    /// per piece, and no point crosses from the host again.
+    pub fn render_gathered(
+        &self,
+        pieces: &[&UploadedScene],
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<Rendered, RasterError> {
+        let origin = pieces
+            .first()
+            .map_or(settings.camera.center, |p| p.points_origin);
+        if pieces
+            .iter()
+            .any(|p| p.points_origin != origin || p.color != settings.color)
+        {
+            return Err(RasterError::Settings(
+                "pieces gathered into one frame were uploaded under other settings".into(),
+            ));
+        }
+        let total: u64 = pieces.iter().map(|p| p.points).sum();
+        let capacity = total.clamp(1, self.points_per_chunk().min(u64::from(u32::MAX))) as u32;
+        let mut frame = self.begin_frame(settings, u64::from(capacity))?;
+        frame.set_points_origin(origin);
+        progress.set_length(total * frame.eyes() as u64);
+        let mut batch = GpuChunk::new(&self.ctx, capacity)?;
+        let device = &self.ctx.device;
+        let point_bytes = size_of::<GpuPoint>() as u64;
+        let color_bytes = size_of::<u32>() as u64;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut filled = 0u32;
+        for chunk in pieces.iter().flat_map(|p| &p.chunks) {
+            let mut from = 0u32;
+            while from < chunk.len {
+                let n = (chunk.len - from).min(capacity - filled);
+                let (src, dst, len) = (u64::from(from), u64::from(filled), u64::from(n));
+                encoder.copy_buffer_to_buffer(
+                    &chunk.points,
+                    src * point_bytes,
+                    &batch.points,
+                    dst * point_bytes,
+                    len * point_bytes,
+                );
+                encoder.copy_buffer_to_buffer(
+                    &chunk.colors,
+                    src * color_bytes,
+                    &batch.colors,
+                    dst * color_bytes,
+                    len * color_bytes,
+                );
+                from += n;
+                filled += n;
+                if filled == capacity {
+                    // The copies reach the queue before the batch's draw, which submits its
+                    // own work; the next copies follow that draw.
+                    let full = std::mem::replace(
+                        &mut encoder,
+                        device.create_command_encoder(&Default::default()),
+                    );
+                    self.ctx.queue.submit([full.finish()]);
+                    batch.len = filled;
+                    frame.draw(&batch, progress)?;
+                    filled = 0;
+                }
+            }
+        }
+        if filled > 0 {
+            self.ctx.queue.submit([encoder.finish()]);
+            batch.len = filled;
+            frame.draw(&batch, progress)?;
+        }
+        Ok(frame.finish()?.0)
     }
 }

@@ -132,46 +132,47 @@ impl NodeStream {
         let threshold =
             std::f64::consts::TAU / f64::from(settings.image.width.max(1)) * self.pixels;
         let selection = lod::select(&self.octree, camera, threshold);
-        let largest = selection
-            .read
-            .iter()
-            .map(|k| self.octree.nodes[k])
-            .max()
-            .unwrap_or(1)
-            .min(self.rasterizer.points_per_chunk());
-        let mut frame = self.rasterizer.begin_frame(settings, largest)?;
-        let mut uploaded = 0;
+        // Nodes held are marked used first, so that the new ones, held once drawn, evict
+        // older frames' nodes rather than this one's.
+        let mut fresh: Vec<(NodeId, UploadedScene)> = Vec::new();
         for key in &selection.read {
-            let stopped = selection.nodes[key];
-            let id = (*key, stopped);
-            if let Some(node) = self.cache.get(&id) {
-                node.draw_into(&mut frame, progress)?;
-                continue;
+            let id = (*key, selection.nodes[key]);
+            if self.cache.get(&id).is_none() {
+                let scene = lod::node_scene(
+                    &self.path,
+                    &self.octree,
+                    *key,
+                    id.1,
+                    &self.options,
+                    self.radii,
+                )?;
+                let node = self
+                    .rasterizer
+                    .upload_colored(&scene, &self.upload, self.color)?;
+                fresh.push((id, node));
             }
-            let scene = lod::node_scene(
-                &self.path,
-                &self.octree,
-                *key,
-                stopped,
-                &self.options,
-                self.radii,
-            )?;
-            let node = self
-                .rasterizer
-                .upload_colored(&scene, &self.upload, self.color)?;
-            uploaded += 1;
+        }
+        let uploaded = fresh.len();
+        let rendered = {
+            let pieces: Vec<&UploadedScene> = selection
+                .read
+                .iter()
+                .filter_map(|k| self.cache.peek(&(*k, selection.nodes[k])))
+                .chain(fresh.iter().map(|(_, n)| n))
+                .collect();
+            self.rasterizer
+                .render_gathered(&pieces, settings, progress)?
+        };
+        for (id, node) in fresh {
             let bytes = node.gpu_bytes();
-            match self.cache.insert(id, node, bytes) {
-                Ok(node) => node.draw_into(&mut frame, progress)?,
-                // Larger than the whole cache: drawn once and dropped.
-                Err(node) => node.draw_into(&mut frame, progress)?,
-            }
+            // A node larger than the whole cache was drawn once and is dropped.
+            let _ = self.cache.insert(id, node, bytes);
         }
         self.last = FrameNodes {
             nodes: selection.read.len(),
             points: selection.points,
             uploaded,
         };
-        Ok(frame.finish()?.0)
+        Ok(rendered)
     }
 }

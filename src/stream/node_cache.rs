@@ -78,6 +78,11 @@ impl<K: Eq + Hash + Copy, V> NodeCache<K, V> {
         self.entries.contains_key(key)
     }
 
+    /// The node of `key` if held, without marking it used.
+    pub fn peek(&self, key: &K) -> Option<&V> {
+        self.entries.get(key).map(|e| &e.value)
+    }
+
     /// The node of `key`, marked as just used; `None` (a miss) when not held.
     pub fn get(&mut self, key: &K) -> Option<&V> {
         self.clock += 1;
