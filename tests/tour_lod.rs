@@ -16,7 +16,7 @@ use omnicloud::prepare::PrepareOptions;
 use omnicloud::prepare::lod::NodeRadii;
 use omnicloud::projection::{Camera, OdsOffset, PoleMerge, PoleMerging, Stereo};
 use omnicloud::render::{ColorMode, ColorRule, RenderSettings, RendererKind};
-use omnicloud::renderer::{NodeStream, Resident};
+use omnicloud::renderer::{NodeRules, NodeStream, Resident};
 use omnicloud::tour::{self, Sampling, Tour, TourRequest};
 
 /// A dense terrestrial scan: a lion statue, 342 k points in a 4 x 6 x 5 m box.
@@ -96,11 +96,13 @@ fn stream(
         rasterizer,
         copc,
         &options,
-        NodeRadii::File,
-        color,
+        NodeRules {
+            radii: NodeRadii::File,
+            color,
+            pixels,
+            budget,
+        },
         &settings(),
-        pixels,
-        budget,
     )
     .unwrap()
 }

@@ -335,7 +335,6 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         report.busy,
         report.sustained_fps()
     ));
-    #[cfg(feature = "gpu")]
     if let Some(stream) = &nodes {
         let c = stream.cache_counts();
         let (used, budget) = stream.cache_bytes();
@@ -357,7 +356,6 @@ const DEFAULT_NODE_CACHE: u64 = 2 << 30;
 /// The level-of-detail node stream a tour of a COPC file draws through on the rasterizer;
 /// `None` (every point resident) with `--lod off`, another format, the ray tracer, or radii
 /// the nodes cannot reproduce alone (adaptive radii measured on the whole scan).
-#[cfg(feature = "gpu")]
 fn node_stream(
     args: &TourArgs,
     info: &crate::io::FileInfo,
@@ -396,23 +394,19 @@ fn node_stream(
     };
     let rasterizer = crate::raster::Rasterizer::new()?;
     let stream = crate::renderer::NodeStream::new(
-        rasterizer, &args.file, &options, radii, color, settings, pixels, budget,
+        rasterizer,
+        &args.file,
+        &options,
+        crate::renderer::NodeRules {
+            radii,
+            color,
+            pixels,
+            budget,
+        },
+        settings,
     )
     .with_context(|| format!("reading the octree of {}", args.file.display()))?;
     Ok(Some(stream))
-}
-
-/// Without the rasterizer there is no node stream: every point stays resident.
-#[cfg(not(feature = "gpu"))]
-fn node_stream(
-    _: &TourArgs,
-    _: &crate::io::FileInfo,
-    _: &tour::Tour,
-    _: &TourRequest,
-    _: &crate::render::RenderSettings,
-    _: &impl Fn(String),
-) -> Result<Option<Resident<'static>>> {
-    Ok(None)
 }
 
 /// Refuses `--video` before anything is loaded or rendered when the frames could not be

@@ -22,5 +22,5 @@ pub use anchor::Anchor;
 pub use error::ResidentError;
 pub use frames::DrawsFrames;
 #[cfg(feature = "gpu")]
-pub use node_stream::{FrameNodes, NodeStream};
+pub use node_stream::{FrameNodes, NodeRules, NodeStream};
 pub use resident::Resident;

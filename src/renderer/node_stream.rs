@@ -31,6 +31,20 @@ pub struct FrameNodes {
     pub uploaded: usize,
 }
 
+/// How a node stream reads, sizes, colours and keeps its nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeRules {
+    /// How the spheres are sized.
+    pub radii: NodeRadii,
+    /// Colours, fixed for the whole scan.
+    pub color: ColorRule,
+    /// A node is fine enough when its spacing spans less than this many pixels of the frame
+    /// (0 reads every node).
+    pub pixels: f64,
+    /// Bytes of nodes kept on the GPU between frames.
+    pub budget: u64,
+}
+
 /// The rasterizer, the file's octree and the nodes on the GPU; see the module docs.
 pub struct NodeStream {
     rasterizer: Rasterizer,
@@ -48,10 +62,7 @@ pub struct NodeStream {
 impl NodeStream {
     /// Reads the octree of the COPC file `path`; frames will be drawn by `rasterizer` from
     /// nodes read with `options` (its origin is the frames' local zero; up axis and filters
-    /// apply), sized by `radii`, coloured by `color` (fixed for the whole scan), under the
-    /// modes of `settings`. A node is fine enough when its spacing spans less than `pixels`
-    /// pixels of the frame (0 reads every node); at most `budget` bytes of nodes stay on the
-    /// GPU.
+    /// apply) under `rules`, in the modes of `settings`.
     ///
     /// # Errors
     /// The file's hierarchy cannot be read.
@@ -59,11 +70,8 @@ impl NodeStream {
         rasterizer: Rasterizer,
         path: &Path,
         options: &PrepareOptions,
-        radii: NodeRadii,
-        color: ColorRule,
+        rules: NodeRules,
         settings: &RenderSettings,
-        pixels: f64,
-        budget: u64,
     ) -> Result<Self, ResidentError> {
         let octree = io::read_octree(path).map_err(PrepareError::from)?;
         Ok(NodeStream {
@@ -71,15 +79,15 @@ impl NodeStream {
             path: path.to_path_buf(),
             octree,
             options: *options,
-            radii,
-            color,
+            radii: rules.radii,
+            color: rules.color,
             // Every node relative to the local zero: one upload serves every camera.
             upload: RenderSettings {
                 camera: Camera::new(glam::DVec3::ZERO, 0.0),
                 ..*settings
             },
-            pixels,
-            cache: NodeCache::new(budget),
+            pixels: rules.pixels,
+            cache: NodeCache::new(rules.budget),
             last: FrameNodes::default(),
         })
     }
