@@ -234,11 +234,11 @@ pub fn tour(
                 let (todo, _) =
                     omnicloud::tour::run::frames_to_render(&options, 0..planned.poses.len());
                 if !todo.is_empty() {
-                    let resident = Resident::new(&planned.scene, kind, &options.settings)
+                    let mut resident = Resident::new(&planned.scene, kind, &options.settings)
                         .map_err(render_error)?;
                     omnicloud::tour::render_frames(
                         &planned,
-                        &resident,
+                        &mut resident,
                         &options,
                         &todo,
                         pb,
@@ -254,14 +254,14 @@ pub fn tour(
         None => {
             let images = with_progress(py, progress, |pb| -> PyResult<_> {
                 let planned = omnicloud::tour::plan(&request, pb).map_err(tour_error)?;
-                let resident =
+                let mut resident =
                     Resident::new(&planned.scene, kind, &options.settings).map_err(render_error)?;
                 pb.set_position(0);
                 pb.set_length(planned.poses.len() as u64);
                 let mut images = Vec::with_capacity(planned.poses.len());
                 for (index, pose) in planned.poses.iter().enumerate() {
-                    let rendered =
-                        render_frame(&planned, &resident, &options, index).map_err(run_error)?;
+                    let rendered = render_frame(&planned, &mut resident, &options, index)
+                        .map_err(run_error)?;
                     images.push(Image::new(
                         rendered,
                         options.output_options(&planned, index),

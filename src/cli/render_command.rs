@@ -27,8 +27,8 @@ pub const TOUR_ONLY: [&str; 12] = [
 ];
 
 /// `omnicloud render SCAN` and `--long=value` for every option of `render` that `tour`
-/// matched (given or defaulted), in `render`'s order, then `--lod=off`: a tour keeps every
-/// point resident, where a COPC file's per-camera level of detail would not.
+/// matched (given or defaulted), in `render`'s order, then the tour's `--lod`: a COPC file
+/// read per camera through the same node selection.
 pub fn render_command(scan: &str, tour: &ArgMatches) -> Vec<String> {
     let render = RenderArgs::augment_args(clap::Command::new("render"));
     let mut argv = vec![
@@ -59,6 +59,13 @@ pub fn render_command(scan: &str, tour: &ArgMatches) -> Vec<String> {
             }
         }
     }
-    argv.push("--lod=off".into());
+    // The tour's level of detail (`off` where a caller's options have none).
+    let lod = tour
+        .try_get_raw("lod")
+        .ok()
+        .flatten()
+        .and_then(|mut v| v.next())
+        .map_or("off".into(), |v| v.to_string_lossy().into_owned());
+    argv.push(format!("--lod={lod}"));
     argv
 }

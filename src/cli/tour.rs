@@ -9,10 +9,12 @@ use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 
 use crate::memory;
-use crate::prepare::LengthScale;
+use crate::prepare::lod::NodeRadii;
+use crate::prepare::{LengthScale, LodChoice, RadiusChoice};
 use crate::projection::Image;
 use crate::render::RendererKind;
-use crate::renderer::Resident;
+use crate::renderer::{DrawsFrames, Resident};
+use crate::scene::Radii;
 use crate::tour::{
     self, FrameFormat, RunOptions, Sampling, Shard, ShardChoice, TourRequest, TourScan, shard,
 };
@@ -91,7 +93,14 @@ pub struct TourArgs {
     /// Eye-dome lighting, supersampling, background (as `render` takes them).
     #[command(flatten)]
     pub look: LookArgs,
-    /// Memory cap for the ray tracer, e.g. 2G (default: 80% of the available memory).
+    /// Level of detail for COPC files (.copc.laz, from `omnicloud index`): `on` reads, per
+    /// frame, the octree nodes whose point spacing seen from the camera is a pixel or more,
+    /// a number of pixels sets that threshold, `off` keeps every point resident.
+    #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
+    pub lod: LodChoice,
+    /// Memory cap: the ray tracer's scene and BVH, or the level of detail's nodes kept on the
+    /// GPU between frames, e.g. 2G [default: 80% of the available memory, at most 2 GiB of
+    /// nodes].
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
     pub max_memory: Option<u64>,
     /// No progress bar or summary.
@@ -182,6 +191,7 @@ pub fn run_stations(render: &RenderArgs, matches: &clap::ArgMatches) -> Result<(
         format: FrameFormat::Png,
         quality: render.quality,
         overwrite: false,
+        lod: render.lod,
         shard: render.shard,
         shards: render.shards,
         draw: render.draw.clone(),
@@ -332,14 +342,27 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         return encode_video(args, &say);
     }
 
-    let resident = Resident::new(&planned.scene, args.draw.renderer, &settings)
-        .with_context(|| format!("keeping {} resident for the tour", args.file.display()))?;
-    if resident.is_streamed() {
-        // A warning, shown even with --quiet: every frame now re-sends the points.
-        eprintln!("{}", resident.describe());
-    } else {
-        say(resident.describe());
-    }
+    let nodes = node_stream(args, &info, &planned, &request, &settings, &say)?;
+    let mut resident = None;
+    let mut nodes = nodes;
+    let renderer: &mut dyn DrawsFrames = match nodes.as_mut() {
+        Some(stream) => {
+            say(stream.describe());
+            stream
+        }
+        None => {
+            let kept = Resident::new(&planned.scene, args.draw.renderer, &settings).with_context(
+                || format!("keeping {} resident for the tour", args.file.display()),
+            )?;
+            if kept.is_streamed() {
+                // A warning, shown even with --quiet: every frame now re-sends the points.
+                eprintln!("{}", kept.describe());
+            } else {
+                say(kept.describe());
+            }
+            resident.insert(kept)
+        }
+    };
     let log_path = args.output.join("tour.log");
     let mut log = std::fs::OpenOptions::new()
         .create(true)
@@ -347,22 +370,15 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         .open(&log_path)
         .with_context(|| format!("opening {}", log_path.display()))?;
     let pb = progress::bar(args.quiet, todo.len() as u64, "rendering");
-    let report = tour::render_frames(
-        &planned,
-        &resident,
-        &options,
-        &todo,
-        &pb,
-        |i, path, took| {
-            // One short line per frame: appends of this size do not interleave between shards.
-            let _ = writeln!(
-                log,
-                "shard {shard}: rendered frame {i} ({}) in {:.3} s",
-                path.file_name().unwrap_or_default().to_string_lossy(),
-                took.as_secs_f64()
-            );
-        },
-    );
+    let report = tour::render_frames(&planned, renderer, &options, &todo, &pb, |i, path, took| {
+        // One short line per frame: appends of this size do not interleave between shards.
+        let _ = writeln!(
+            log,
+            "shard {shard}: rendered frame {i} ({}) in {:.3} s",
+            path.file_name().unwrap_or_default().to_string_lossy(),
+            took.as_secs_f64()
+        );
+    });
     pb.finish_and_clear();
     let report = report?;
     say(format!(
@@ -372,7 +388,78 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         report.busy,
         report.sustained_fps()
     ));
+    if let Some(stream) = &nodes {
+        let c = stream.cache_counts();
+        let (used, budget) = stream.cache_bytes();
+        say(format!(
+            "node cache: {} read and uploaded, {} reused, {} evicted; {} of {} on the GPU",
+            c.misses,
+            c.hits,
+            c.evicted,
+            crate::memory::format_size(used),
+            crate::memory::format_size(budget)
+        ));
+    }
     encode_video(args, &say)
+}
+
+/// Default bound of the level of detail's node cache.
+const DEFAULT_NODE_CACHE: u64 = 2 << 30;
+
+/// The level-of-detail node stream a tour of a COPC file draws through on the rasterizer;
+/// `None` (every point resident) with `--lod off`, another format, the ray tracer, or radii
+/// the nodes cannot reproduce alone (adaptive radii measured on the whole scan).
+fn node_stream(
+    args: &TourArgs,
+    info: &crate::io::FileInfo,
+    planned: &tour::Tour,
+    request: &TourRequest,
+    settings: &crate::render::RenderSettings,
+    say: &impl Fn(String),
+) -> Result<Option<crate::renderer::NodeStream>> {
+    let LodChoice::Pixels(pixels) = args.lod else {
+        return Ok(None);
+    };
+    if args.draw.renderer != RendererKind::Raster || !crate::io::is_copc(info) {
+        return Ok(None);
+    }
+    let radii = match (args.view.radius, &planned.scene.radii) {
+        (None, Radii::PerPoint(_)) if info.attributes.radius => NodeRadii::File,
+        (Some(RadiusChoice::Fixed(r)), _) => NodeRadii::Base(r),
+        (Some(RadiusChoice::Auto), Radii::Uniform(r)) => NodeRadii::Base(*r),
+        _ => {
+            say(format!(
+                "{}: level of detail off: its adaptive radii are measured on the whole scan \
+                 (index it with `omnicloud index`, which stores them, or give --radius \
+                 LENGTH|auto)",
+                args.file.display()
+            ));
+            return Ok(None);
+        }
+    };
+    let color = crate::render::ColorRule::for_scene(&planned.scene, settings.color)?;
+    let budget = args.max_memory.unwrap_or_else(|| {
+        memory::default_cap().map_or(DEFAULT_NODE_CACHE, |c| c.min(DEFAULT_NODE_CACHE))
+    });
+    let options = crate::prepare::PrepareOptions {
+        origin: Some(planned.origin),
+        ..request.prepare
+    };
+    let rasterizer = crate::raster::Rasterizer::new()?;
+    let stream = crate::renderer::NodeStream::new(
+        rasterizer,
+        &args.file,
+        &options,
+        crate::renderer::NodeRules {
+            radii,
+            color,
+            pixels,
+            budget,
+        },
+        settings,
+    )
+    .with_context(|| format!("reading the octree of {}", args.file.display()))?;
+    Ok(Some(stream))
 }
 
 /// Refuses `--video` before anything is loaded or rendered when the frames could not be
@@ -630,13 +717,13 @@ mod render_command_tests {
     }
 
     #[test]
-    fn defaults_are_written_out_and_the_level_of_detail_is_off() {
+    fn defaults_are_written_out_with_the_tours_level_of_detail() {
         let (t, m) = tour_with(&[]);
         let argv = render_command("s.laz", &m);
         assert_eq!(&argv[..3], ["omnicloud", "render", "s.laz"]);
         assert!(argv.contains(&"--width=3840".to_string()), "{argv:?}");
         assert!(argv.contains(&"--units=metres".to_string()), "{argv:?}");
-        assert_eq!(argv.last().map(String::as_str), Some("--lod=off"));
+        assert_eq!(argv.last().map(String::as_str), Some("--lod=on"));
         for tour_only in ["--camera", "--yaw", "--height", "-o", "--output", "--quiet"] {
             assert!(
                 !argv.iter().any(|a| a.starts_with(tour_only)),
@@ -645,7 +732,11 @@ mod render_command_tests {
         }
         let r = render(&argv);
         assert_eq!(per_tour(&r.view), per_tour(&t.view));
-        assert_eq!(r.lod, crate::prepare::LodChoice::Off);
+        assert_eq!(r.lod, crate::prepare::LodChoice::Pixels(1.0));
+        let (_, m) = tour_with(&["--lod=off".into()]);
+        let argv = render_command("s.laz", &m);
+        assert_eq!(argv.last().map(String::as_str), Some("--lod=off"));
+        assert_eq!(render(&argv).lod, crate::prepare::LodChoice::Off);
     }
 
     proptest! {

@@ -228,7 +228,7 @@ pub struct LodRead {
 }
 
 /// File coordinates of a world (Z-up) point: the inverse of [`Up::to_world`].
-fn to_file(up: Up, w: DVec3) -> DVec3 {
+pub fn to_file(up: Up, w: DVec3) -> DVec3 {
     match up {
         Up::Z => w,
         Up::Y => DVec3::new(w.x, w.z, -w.y),
@@ -327,6 +327,58 @@ pub fn read(
             report: report_lod,
         },
     )))
+}
+
+/// How the spheres of a node read on its own are sized.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NodeRadii {
+    /// The radii the file stores: each point's full-detail radius, or its node's closing
+    /// radius where refinement stopped (an index made by `omnicloud index`).
+    File,
+    /// This radius at full detail, at least [`LOD_RADIUS_FACTOR`] times the level's spacing
+    /// where refinement stopped.
+    Base(f32),
+}
+
+/// Node `key` of the COPC file `path` (whose octree is `octree`) as a scene around
+/// `options.origin`, filtered by `options.filter` and sized by `radii`; `stopped` says that
+/// refinement stopped at it, so its points stand for the unread ones below. The same points,
+/// positions and radii as a read of the whole selection.
+///
+/// # Errors
+/// A [`LoadError`] (a corrupt node or hierarchy names the file).
+pub fn node_scene(
+    path: &Path,
+    octree: &Octree,
+    key: NodeKey,
+    stopped: bool,
+    options: &PrepareOptions,
+    radii: NodeRadii,
+) -> Result<Scene, PrepareError> {
+    let load = LoadOptions {
+        origin: options.origin,
+        up: options.up,
+        ..LoadOptions::default()
+    };
+    let stop: HashSet<NodeKey> = if stopped {
+        HashSet::from([key])
+    } else {
+        HashSet::new()
+    };
+    let (scene, _) =
+        load_files_with_reader(&[path.to_path_buf()], &load, &ProgressBar::hidden(), &|p| {
+            io::open_nodes_stopping(p, &[key], &stop)
+        })?;
+    let (mut scene, _) = options.filter.apply(scene, options.up, Stage::All);
+    if let NodeRadii::Base(r) = radii {
+        let r = if stopped {
+            r.max((octree.node_spacing(key.depth) * LOD_RADIUS_FACTOR) as f32)
+        } else {
+            r
+        };
+        scene.radii = Radii::Uniform(r);
+    }
+    Ok(scene)
 }
 
 impl LodRead {

@@ -4,7 +4,7 @@
 use indicatif::ProgressBar;
 
 use crate::frame::Rendered;
-use crate::render::{ColorMode, RenderSettings, base_colors};
+use crate::render::{ColorMode, ColorRule, RenderSettings};
 use crate::scene::Scene;
 
 use super::chunk::{GpuChunk, GpuPoint, pack_color};
@@ -32,6 +32,16 @@ impl UploadedScene {
     pub fn is_empty(&self) -> bool {
         self.points == 0
     }
+
+    /// Bytes its buffers take on the GPU.
+    pub fn gpu_bytes(&self) -> u64 {
+        let per_point = (size_of::<GpuPoint>() + size_of::<u32>()) as u64;
+        self.chunks
+            .iter()
+            .map(|c| u64::from(c.capacity))
+            .sum::<u64>()
+            * per_point
+    }
 }
 
 impl Rasterizer {
@@ -55,7 +65,22 @@ impl Rasterizer {
         scene: &Scene,
         settings: &RenderSettings,
     ) -> Result<UploadedScene, RasterError> {
-        let colors = base_colors(scene, settings.color)?;
+        self.upload_colored(
+            scene,
+            settings,
+            ColorRule::for_scene(scene, settings.color)?,
+        )
+    }
+
+    /// [`Rasterizer::upload`] with colours from `color` rather than measured on `scene`:
+    /// pieces of one cloud uploaded apart colour alike.
+    pub fn upload_colored(
+        &self,
+        scene: &Scene,
+        settings: &RenderSettings,
+        color: ColorRule,
+    ) -> Result<UploadedScene, RasterError> {
+        let colors = color.colors(scene)?;
         let c = settings.camera.center;
         let per_chunk = self.points_per_chunk() as usize;
         let mut chunks = Vec::new();
@@ -101,5 +126,80 @@ impl Rasterizer {
             frame.draw(chunk, progress)?;
         }
         frame.finish()
+    }
+
+    /// Renders pieces of one cloud uploaded apart (each by [`Rasterizer::upload_colored`]
+    /// under the same settings, so relative to the same point and coloured alike), gathered
+    /// on the GPU into batches of up to one chunk: a frame then costs a draw per batch, not
+    /// per piece, and no point crosses from the host again.
+    pub fn render_gathered(
+        &self,
+        pieces: &[&UploadedScene],
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<Rendered, RasterError> {
+        let origin = pieces
+            .first()
+            .map_or(settings.camera.center, |p| p.points_origin);
+        if pieces
+            .iter()
+            .any(|p| p.points_origin != origin || p.color != settings.color)
+        {
+            return Err(RasterError::Settings(
+                "pieces gathered into one frame were uploaded under other settings".into(),
+            ));
+        }
+        let total: u64 = pieces.iter().map(|p| p.points).sum();
+        let capacity = total.clamp(1, self.points_per_chunk().min(u64::from(u32::MAX))) as u32;
+        let mut frame = self.begin_frame(settings, u64::from(capacity))?;
+        frame.set_points_origin(origin);
+        progress.set_length(total * frame.eyes() as u64);
+        let mut batch = GpuChunk::new(&self.ctx, capacity)?;
+        let device = &self.ctx.device;
+        let point_bytes = size_of::<GpuPoint>() as u64;
+        let color_bytes = size_of::<u32>() as u64;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        let mut filled = 0u32;
+        for chunk in pieces.iter().flat_map(|p| &p.chunks) {
+            let mut from = 0u32;
+            while from < chunk.len {
+                let n = (chunk.len - from).min(capacity - filled);
+                let (src, dst, len) = (u64::from(from), u64::from(filled), u64::from(n));
+                encoder.copy_buffer_to_buffer(
+                    &chunk.points,
+                    src * point_bytes,
+                    &batch.points,
+                    dst * point_bytes,
+                    len * point_bytes,
+                );
+                encoder.copy_buffer_to_buffer(
+                    &chunk.colors,
+                    src * color_bytes,
+                    &batch.colors,
+                    dst * color_bytes,
+                    len * color_bytes,
+                );
+                from += n;
+                filled += n;
+                if filled == capacity {
+                    // The copies reach the queue before the batch's draw, which submits its
+                    // own work; the next copies follow that draw.
+                    let full = std::mem::replace(
+                        &mut encoder,
+                        device.create_command_encoder(&Default::default()),
+                    );
+                    self.ctx.queue.submit([full.finish()]);
+                    batch.len = filled;
+                    frame.draw(&batch, progress)?;
+                    filled = 0;
+                }
+            }
+        }
+        if filled > 0 {
+            self.ctx.queue.submit([encoder.finish()]);
+            batch.len = filled;
+            frame.draw(&batch, progress)?;
+        }
+        Ok(frame.finish()?.0)
     }
 }

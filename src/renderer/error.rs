@@ -19,6 +19,9 @@ pub enum ResidentError {
     #[cfg(feature = "gpu")]
     #[error("the scene's points are not on the GPU: place them before rendering")]
     NotPlaced,
+    /// A level-of-detail node could not be read.
+    #[error(transparent)]
+    Read(#[from] crate::prepare::PrepareError),
     /// This build has no rasterizer.
     #[error("this build has no GPU rasterizer (feature `gpu`); use --renderer raytrace")]
     NoRasterizer,

@@ -11,6 +11,7 @@
 //! Points with NaN/inf or absurd coordinates are dropped and counted, as `load_scene` does.
 
 mod error;
+pub mod node_cache;
 pub mod plan;
 
 pub use error::{SinkError, StreamError};

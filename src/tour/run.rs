@@ -15,7 +15,7 @@ use crate::Rendered;
 use crate::output::{self, Layout, OutputError, OutputOptions};
 use crate::projection::Camera;
 use crate::render::{Look, LookError, RenderSettings};
-use crate::renderer::{Resident, ResidentError};
+use crate::renderer::{DrawsFrames, ResidentError};
 
 /// The frame files' format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -104,14 +104,14 @@ impl RunOptions {
 /// [`render_frames`] writes (under [`RunOptions::output_options`]).
 pub fn render_frame(
     tour: &Tour,
-    resident: &Resident<'_>,
+    renderer: &mut dyn DrawsFrames,
     options: &RunOptions,
     index: usize,
 ) -> Result<Rendered, RunError> {
     let image = options.look.render_image(&options.settings.image)?;
     let settings = options.frame_settings(tour, index);
-    let rendered = resident
-        .render(
+    let rendered = renderer
+        .render_frame(
             &RenderSettings { image, ..settings },
             &ProgressBar::hidden(),
         )
@@ -216,11 +216,12 @@ pub fn frames_to_render(options: &RunOptions, range: Range<usize>) -> (Vec<usize
     range.partition(|&i| options.overwrite || !options.frame_path(i).exists())
 }
 
-/// Renders and writes the frames `todo` of `tour` with `resident`; `progress` counts frames
-/// and shows the frame rate; `on_frame` hears each frame written.
+/// Renders and writes the frames `todo` of `tour` with `renderer` (the scene kept resident, or
+/// a level-of-detail node stream); `progress` counts frames and shows the frame rate;
+/// `on_frame` hears each frame written.
 pub fn render_frames(
     tour: &Tour,
-    resident: &Resident<'_>,
+    renderer: &mut dyn DrawsFrames,
     options: &RunOptions,
     todo: &[usize],
     progress: &ProgressBar,
@@ -230,10 +231,10 @@ pub fn render_frames(
     progress.set_length(todo.len() as u64);
     for &index in todo {
         let started = Instant::now();
-        let rendered = render_frame(tour, resident, options, index)?;
+        let rendered = render_frame(tour, renderer, options, index)?;
         let path = options.frame_path(index);
         output::write_image_with(&path, &rendered, &options.output_options(tour, index))?;
-        resident.recycle(rendered);
+        renderer.recycle_frame(rendered);
         let took = started.elapsed();
         report.busy += took;
         report.rendered.push(index);

@@ -1,0 +1,186 @@
+//! A COPC scan drawn through its level of detail for many camera positions: each frame selects
+//! the octree nodes its camera needs (the rule `render` uses, [`lod::select`]), draws those
+//! already on the GPU and uploads the others once into a [`NodeCache`] bounded in bytes, which
+//! evicts the least recently used. Host memory holds one node at a time, not the scan.
+
+use std::path::{Path, PathBuf};
+
+use indicatif::ProgressBar;
+
+use super::error::ResidentError;
+use crate::Rendered;
+use crate::io::{self, NodeKey, Octree};
+use crate::prepare::lod::{self, NodeRadii};
+use crate::prepare::{PrepareError, PrepareOptions};
+use crate::projection::Camera;
+use crate::raster::{Rasterizer, UploadedScene};
+use crate::render::{ColorRule, RenderSettings};
+use crate::stream::node_cache::{CacheCounts, NodeCache};
+
+/// A cached node: its key and whether refinement stopped at it (its radii differ then).
+type NodeId = (NodeKey, bool);
+
+/// What the last frame drew.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FrameNodes {
+    /// Nodes drawn.
+    pub nodes: usize,
+    /// Points in them (as the hierarchy counts them).
+    pub points: u64,
+    /// Nodes read and uploaded for this frame.
+    pub uploaded: usize,
+}
+
+/// How a node stream reads, sizes, colours and keeps its nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NodeRules {
+    /// How the spheres are sized.
+    pub radii: NodeRadii,
+    /// Colours, fixed for the whole scan.
+    pub color: ColorRule,
+    /// A node is fine enough when its spacing spans less than this many pixels of the frame
+    /// (0 reads every node).
+    pub pixels: f64,
+    /// Bytes of nodes kept on the GPU between frames.
+    pub budget: u64,
+}
+
+/// The rasterizer, the file's octree and the nodes on the GPU; see the module docs.
+pub struct NodeStream {
+    rasterizer: Rasterizer,
+    path: PathBuf,
+    octree: Octree,
+    options: PrepareOptions,
+    radii: NodeRadii,
+    color: ColorRule,
+    upload: RenderSettings,
+    pixels: f64,
+    cache: NodeCache<NodeId, UploadedScene>,
+    last: FrameNodes,
+}
+
+impl NodeStream {
+    /// Reads the octree of the COPC file `path`; frames will be drawn by `rasterizer` from
+    /// nodes read with `options` (its origin is the frames' local zero; up axis and filters
+    /// apply) under `rules`, in the modes of `settings`.
+    ///
+    /// # Errors
+    /// The file's hierarchy cannot be read.
+    pub fn new(
+        rasterizer: Rasterizer,
+        path: &Path,
+        options: &PrepareOptions,
+        rules: NodeRules,
+        settings: &RenderSettings,
+    ) -> Result<Self, ResidentError> {
+        let octree = io::read_octree(path).map_err(PrepareError::from)?;
+        Ok(NodeStream {
+            rasterizer,
+            path: path.to_path_buf(),
+            octree,
+            options: *options,
+            radii: rules.radii,
+            color: rules.color,
+            // Every node relative to the local zero: one upload serves every camera.
+            upload: RenderSettings {
+                camera: Camera::new(glam::DVec3::ZERO, 0.0),
+                ..*settings
+            },
+            pixels: rules.pixels,
+            cache: NodeCache::new(rules.budget),
+            last: FrameNodes::default(),
+        })
+    }
+
+    /// The rasterizer.
+    pub fn rasterizer(&self) -> &Rasterizer {
+        &self.rasterizer
+    }
+
+    /// What the cache did so far.
+    pub fn cache_counts(&self) -> CacheCounts {
+        self.cache.counts()
+    }
+
+    /// Bytes of nodes on the GPU now, and the bound.
+    pub fn cache_bytes(&self) -> (u64, u64) {
+        (self.cache.used(), self.cache.budget())
+    }
+
+    /// What the last frame drew.
+    pub fn last_frame(&self) -> FrameNodes {
+        self.last
+    }
+
+    /// What renders, for messages.
+    pub fn describe(&self) -> String {
+        format!(
+            "level of detail ({} px): {} points in {} nodes, read per frame into a cache of {} \
+             on the GPU ({})",
+            self.pixels,
+            self.octree.point_count,
+            self.octree.nonempty_nodes(),
+            crate::memory::format_size(self.cache.budget()),
+            self.rasterizer.adapter_name()
+        )
+    }
+
+    /// Renders one frame; `settings.camera.center` is in the local frame of the options'
+    /// origin, and `settings` has the modes given to [`NodeStream::new`].
+    ///
+    /// # Errors
+    /// A node cannot be read, or the rasterizer failed.
+    pub fn render(
+        &mut self,
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<Rendered, ResidentError> {
+        let origin = self.options.origin.unwrap_or_default();
+        let camera = lod::to_file(self.options.up, origin + settings.camera.center);
+        let threshold =
+            std::f64::consts::TAU / f64::from(settings.image.width.max(1)) * self.pixels;
+        let selection = lod::select(&self.octree, camera, threshold);
+        // Nodes held are marked used first, so that the new ones, held once drawn, evict
+        // older frames' nodes rather than this one's.
+        let mut fresh: Vec<(NodeId, UploadedScene)> = Vec::new();
+        for key in &selection.read {
+            let id = (*key, selection.nodes[key]);
+            if self.cache.get(&id).is_none() {
+                let scene = lod::node_scene(
+                    &self.path,
+                    &self.octree,
+                    *key,
+                    id.1,
+                    &self.options,
+                    self.radii,
+                )?;
+                let node = self
+                    .rasterizer
+                    .upload_colored(&scene, &self.upload, self.color)?;
+                fresh.push((id, node));
+            }
+        }
+        let uploaded = fresh.len();
+        let rendered = {
+            let pieces: Vec<&UploadedScene> = selection
+                .read
+                .iter()
+                .filter_map(|k| self.cache.peek(&(*k, selection.nodes[k])))
+                .chain(fresh.iter().map(|(_, n)| n))
+                .collect();
+            self.rasterizer
+                .render_gathered(&pieces, settings, progress)?
+        };
+        for (id, node) in fresh {
+            let bytes = node.gpu_bytes();
+            // A node larger than the whole cache was drawn once and is dropped.
+            let _ = self.cache.insert(id, node, bytes);
+        }
+        self.last = FrameNodes {
+            nodes: selection.read.len(),
+            points: selection.points,
+            uploaded,
+        };
+        Ok(rendered)
+    }
+}
