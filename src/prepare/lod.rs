@@ -355,8 +355,10 @@ pub fn node_scene(
     options: &PrepareOptions,
     radii: NodeRadii,
 ) -> Result<Scene, PrepareError> {
+    // Read around the file's own origin, then moved onto the tour's, exactly as
+    // `prepare_files` reads the whole scan: the same rounding, so the same positions.
     let load = LoadOptions {
-        origin: options.origin,
+        origin: None,
         up: options.up,
         ..LoadOptions::default()
     };
@@ -365,10 +367,13 @@ pub fn node_scene(
     } else {
         HashSet::new()
     };
-    let (scene, _) =
+    let (mut scene, _) =
         load_files_with_reader(&[path.to_path_buf()], &load, &ProgressBar::hidden(), &|p| {
             io::open_nodes_stopping(p, &[key], &stop)
         })?;
+    if let Some(origin) = options.origin {
+        scene.recenter(origin);
+    }
     let (mut scene, _) = options.filter.apply(scene, options.up, Stage::All);
     if let NodeRadii::Base(r) = radii {
         let r = if stopped {
