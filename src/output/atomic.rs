@@ -73,9 +73,9 @@ impl Drop for Registered {
     }
 }
 
-/// A hidden temporary file next to `dest` (same directory, so the rename is atomic), named
-/// in the registry before it exists, so an interrupt at any point finds it.
-fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
+/// Where a temporary for `dest` goes (its folder, `.` for a bare name) and the name it
+/// starts from (`dest`'s file name, `output` when it has none).
+fn temp_place(dest: &Path) -> (&Path, String) {
     let dir = match dest.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -84,6 +84,13 @@ fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "output".to_owned());
+    (dir, name)
+}
+
+/// A hidden temporary file next to `dest` (same directory, so the rename is atomic), named
+/// in the registry before it exists, so an interrupt at any point finds it.
+fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
+    let (dir, name) = temp_place(dest);
     let prefix = format!(".{name}.");
     tempfile::Builder::new()
         .prefix(&prefix)
@@ -175,14 +182,7 @@ impl ScratchDir {
     /// # Errors
     /// [`OutputError::Io`] when the folder cannot be created.
     pub fn next_to(dest: &Path, label: &str) -> Result<ScratchDir, OutputError> {
-        let dir = match dest.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let name = dest
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_else(|| "output".to_owned());
+        let (dir, name) = temp_place(dest);
         let made = tempfile::Builder::new()
             .prefix(&format!(".{name}.{label}."))
             .suffix(".tmp")
