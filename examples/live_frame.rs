@@ -42,7 +42,11 @@ fn main() -> anyhow::Result<()> {
     let args = Args::parse();
     let info = omnicloud::io::read_info(&args.file)?;
     let scale = LengthScale::for_info(&info, Units::Metres, omnicloud::io::Up::Z);
-    let prepared = prepare(&args.file, &PrepareOptions::default(), &ProgressBar::hidden())?;
+    let prepared = prepare(
+        &args.file,
+        &PrepareOptions::default(),
+        &ProgressBar::hidden(),
+    )?;
     let options = LiveOptions {
         width: args.width,
         height: scale.height(1.7),
@@ -80,7 +84,8 @@ fn main() -> anyhow::Result<()> {
         let mut last = None;
         for k in 0..=args.frames {
             let t = Instant::now();
-            let (rendered, stats, timing) = raster.render_uploaded(&uploaded, &settings, &hidden)?;
+            let (rendered, stats, timing) =
+                raster.render_uploaded(&uploaded, &settings, &hidden)?;
             let total = t.elapsed().as_secs_f64() * 1e3;
             let t = Instant::now();
             let frame = rendered.top_bottom();

@@ -9,8 +9,8 @@
 //! pole-merge changes render the resident points again.
 
 use std::panic::AssertUnwindSafe;
-use std::sync::{Arc, Mutex, PoisonError};
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -484,5 +484,35 @@ mod tests {
                 request.xy
             );
         }
+    }
+
+    #[test]
+    fn a_pair_handed_back_holds_the_next_live_pair() {
+        let scan = Arc::new(courtyard());
+        let thread = RenderThread::start(scan.clone(), RendererKind::Raytrace).unwrap();
+        let queue = thread.queue();
+        let first = RenderRequest::default_at(&scan.limits);
+        let raw = queue.submit(first.clone(), 64).recv().unwrap().unwrap();
+        let memory = raw.frame.color.as_ptr();
+        queue.give_back(raw.frame);
+        let moved = RenderRequest {
+            xy: DVec2::new(304.0, 697.5),
+            seq: 1,
+            ..first
+        };
+        let raw = queue.submit(moved.clone(), 64).recv().unwrap().unwrap();
+        assert_eq!(
+            raw.frame.color.as_ptr(),
+            memory,
+            "stacked into the pair handed back"
+        );
+        let camera = scan.camera_at(moved.xy).unwrap();
+        let settings = live_settings(&scan, camera - scan.scene.origin, &moved);
+        let alone =
+            crate::raytrace::render(&scan.scene, &settings, &ProgressBar::hidden()).unwrap();
+        assert!(
+            raw.frame == alone.top_bottom(),
+            "the pair differs from a render alone"
+        );
     }
 }
