@@ -3,7 +3,7 @@
 //! memory at the start and the end; or (`--encoders`) the two JPEG encoders on one pair.
 //!
 //! `cargo run --release --example live_bench -- [FILE] [--width 1440] [--clients 1,4]
-//! [--seconds 20] [--live-scale 1|auto] [--encoders]` (FILE defaults to the sample,
+//! [--seconds 20] [--live-scale 1|auto] [--rss-every SECS] [--encoders]` (FILE defaults to the sample,
 //! data/autzen_trim.laz). Each client sends a pose every 33 ms (as a page does while a key is
 //! held), walking 1.4 m/s back and forth along a line through the start camera, and reads
 //! frames as they come. The server runs in this process on a free port with the rasterizer.
@@ -37,6 +37,10 @@ struct Args {
     /// `1`: every frame at --width; `auto`: narrower while slow.
     #[arg(long, default_value = "1")]
     live_scale: LiveScale,
+    /// Also samples the resident memory every this many seconds while the clients walk, and
+    /// prints the samples with their maximum (a soak: is memory flat?).
+    #[arg(long)]
+    rss_every: Option<f64>,
     /// Time the two JPEG encoders on one rendered pair instead.
     #[arg(long)]
     encoders: bool,
@@ -124,6 +128,23 @@ fn walk(
     walk
 }
 
+/// Resident memory (seconds since the start, MiB) every `every` seconds while `walking`.
+fn sample_rss(every: f64, walking: &std::sync::atomic::AtomicBool) -> Vec<(f64, f64)> {
+    let started = Instant::now();
+    let mut samples = vec![(0.0, rss_mib())];
+    let mut next = every;
+    while walking.load(std::sync::atomic::Ordering::SeqCst) {
+        let t = started.elapsed().as_secs_f64();
+        if t >= next {
+            samples.push((t, rss_mib()));
+            next += every;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    samples.push((started.elapsed().as_secs_f64(), rss_mib()));
+    samples
+}
+
 fn percentile(sorted: &[f64], p: f64) -> f64 {
     if sorted.is_empty() {
         return f64::NAN;
@@ -175,15 +196,30 @@ fn main() -> anyhow::Result<()> {
     let running = server.spawn();
     for &clients in &args.clients {
         let rss_before = rss_mib();
-        let walks: Vec<Walk> = std::thread::scope(|s| {
+        let walking = &std::sync::atomic::AtomicBool::new(true);
+        let (walks, samples): (Vec<Walk>, Vec<(f64, f64)>) = std::thread::scope(|s| {
             let handles: Vec<_> = (0..clients)
                 .map(|k| {
                     let offset = half * k as f64;
                     s.spawn(move || walk(addr, start, half, step, args.seconds, offset))
                 })
                 .collect();
-            handles.into_iter().map(|h| h.join().unwrap()).collect()
+            let sampler = args
+                .rss_every
+                .map(|every| s.spawn(move || sample_rss(every, walking)));
+            let walks = handles.into_iter().map(|h| h.join().unwrap()).collect();
+            walking.store(false, std::sync::atomic::Ordering::SeqCst);
+            let samples = sampler.map_or(Vec::new(), |h| h.join().unwrap());
+            (walks, samples)
         });
+        if !samples.is_empty() {
+            let line: Vec<String> = samples
+                .iter()
+                .map(|(t, mib)| format!("{t:.0} s {mib:.0}"))
+                .collect();
+            let max = samples.iter().map(|s| s.1).fold(f64::NAN, f64::max);
+            println!("RSS samples (MiB): {}; max {max:.0} MiB", line.join(", "));
+        }
         let mut all: Vec<f64> = walks.iter().flat_map(|w| w.latencies_ms.clone()).collect();
         all.sort_by(f64::total_cmp);
         let rates: Vec<String> = walks

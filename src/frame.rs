@@ -82,15 +82,67 @@ impl Rendered {
 
     /// Stacks the frames top-bottom (left eye on top, DESIGN §6) into one frame.
     pub fn top_bottom(&self) -> Frame {
-        match self {
-            Rendered::Mono(f) => f.clone(),
-            Rendered::Stereo { left, right } => {
-                let mut out = left.clone();
-                out.height += right.height;
-                out.color.extend_from_slice(&right.color);
-                out.depth.extend_from_slice(&right.depth);
-                out
-            }
+        let pixels = self.frames().iter().map(|f| f.color.len()).sum();
+        let mut out = Frame {
+            width: 0,
+            height: 0,
+            color: Vec::with_capacity(pixels),
+            depth: Vec::with_capacity(pixels),
+        };
+        self.top_bottom_into(&mut out);
+        out
+    }
+
+    /// Stacks the frames top-bottom into `out`, whatever it held, in its memory where it
+    /// has room: a loop that hands its last frame back writes no fresh pages.
+    pub fn top_bottom_into(&self, out: &mut Frame) {
+        let frames = self.frames();
+        out.width = frames[0].width;
+        out.height = frames.iter().map(|f| f.height).sum();
+        out.color.clear();
+        out.depth.clear();
+        for f in frames {
+            out.color.extend_from_slice(&f.color);
+            out.depth.extend_from_slice(&f.depth);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `width x height` frame whose pixels count up from `first`.
+    fn counting(width: u32, height: u32, first: u8) -> Frame {
+        let mut f = Frame::new(width, height);
+        for (k, (c, d)) in f.color.iter_mut().zip(&mut f.depth).enumerate() {
+            *c = [first.wrapping_add(k as u8), 0, 0, 255];
+            *d = first as f32 + k as f32;
+        }
+        f
+    }
+
+    #[test]
+    fn stacking_into_a_used_frame_gives_the_stacked_pair_in_its_memory() {
+        let pair = Rendered::Stereo {
+            left: counting(8, 4, 0),
+            right: counting(8, 4, 100),
+        };
+        let stacked = pair.top_bottom();
+        assert_eq!((stacked.width, stacked.height), (8, 8));
+        assert_eq!(stacked.color[32], [100, 0, 0, 255], "right eye below");
+        assert_eq!(stacked.depth[31], 31.0);
+        // A larger frame's memory serves, a smaller one's grows.
+        let mut larger = counting(16, 8, 7);
+        let before = larger.color.as_ptr();
+        pair.top_bottom_into(&mut larger);
+        assert!(larger == stacked);
+        assert_eq!(larger.color.as_ptr(), before, "no new allocation");
+        let mut smaller = counting(2, 1, 9);
+        pair.top_bottom_into(&mut smaller);
+        assert!(smaller == stacked);
+        let mono = Rendered::Mono(counting(4, 2, 3));
+        mono.top_bottom_into(&mut smaller);
+        assert!(smaller == counting(4, 2, 3));
     }
 }

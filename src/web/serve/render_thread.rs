@@ -9,8 +9,8 @@
 //! pole-merge changes render the resident points again.
 
 use std::panic::AssertUnwindSafe;
-use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -43,6 +43,30 @@ pub struct LiveFrame {
 /// How far (metres) the live stream's camera may stand from the points' anchor before they
 /// are placed again.
 const KEEP_ANCHOR_METRES: f64 = 100.0;
+
+/// How many stacked pairs handed back ([`RenderQueue::give_back`]) are kept for the next
+/// renders to stack into: one being encoded while the next is stacked.
+const KEEP_SPENT: usize = 2;
+
+/// Stacked pairs their askers are done with, for the next renders to stack into: memory
+/// already paged in, where a fresh pair costs a page fault and a zero-fill per page.
+#[derive(Default)]
+struct Spent(Mutex<Vec<Frame>>);
+
+impl Spent {
+    fn put(&self, frame: Frame) {
+        let mut kept = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        if kept.len() < KEEP_SPENT {
+            kept.push(frame);
+        }
+    }
+
+    /// A frame to stack into: a spent one, else an empty one.
+    fn take(&self) -> Frame {
+        let mut kept = self.0.lock().unwrap_or_else(PoisonError::into_inner);
+        kept.pop().unwrap_or_else(|| Frame::new(0, 0))
+    }
+}
 
 /// A finished render not yet encoded (the live stream encodes it while the next renders).
 #[derive(Debug, Clone)]
@@ -107,6 +131,7 @@ struct Job {
 #[derive(Clone)]
 pub struct RenderQueue {
     queue: Arc<LatestQueue<String, Job>>,
+    spent: Arc<Spent>,
 }
 
 impl RenderQueue {
@@ -120,6 +145,12 @@ impl RenderQueue {
         let (reply, answer) = channel();
         self.push(request, width, Answer::Raw(reply));
         answer
+    }
+
+    /// Hands a [`RawFrame`]'s pair back once it is encoded: a later render stacks its pair
+    /// into that memory.
+    pub fn give_back(&self, frame: Frame) {
+        self.spent.put(frame);
     }
 
     fn push(&self, request: RenderRequest, width: u32, reply: Answer) {
@@ -138,6 +169,7 @@ impl RenderQueue {
 /// The render thread's handle; dropping it stops the thread once its render is done.
 pub struct RenderThread {
     queue: Arc<LatestQueue<String, Job>>,
+    spent: Arc<Spent>,
     thread: Option<JoinHandle<()>>,
     adapter: String,
     max_width: u32,
@@ -154,10 +186,12 @@ impl RenderThread {
     /// The renderer could not start (no adapter, a refused device, a scan it cannot hold).
     pub fn start(scan: Arc<LiveScan>, kind: RendererKind) -> Result<Self, ServeError> {
         let queue: Arc<LatestQueue<String, Job>> = Arc::new(LatestQueue::new());
+        let spent = Arc::new(Spent::default());
         let width = scan.options.width;
         let (ready_tx, ready_rx) = channel();
         let thread = {
             let queue = queue.clone();
+            let spent = spent.clone();
             std::thread::Builder::new()
                 .name("omnicloud-render".into())
                 .spawn(move || {
@@ -184,6 +218,7 @@ impl RenderThread {
                         scan,
                         resident,
                         asked: Some((first.xy, None, camera)),
+                        spent: &spent,
                     };
                     while let Some(job) = queue.take() {
                         let keep_anchor = matches!(job.reply, Answer::Raw(_));
@@ -195,6 +230,7 @@ impl RenderThread {
                                 let started = Instant::now();
                                 let png = png_bytes(&raw.frame)
                                     .map_err(|e| RenderFailure::Failed(e.to_string()))?;
+                                spent.put(raw.frame);
                                 Ok(LiveFrame {
                                     png,
                                     camera: raw.camera,
@@ -209,6 +245,7 @@ impl RenderThread {
         };
         let mut started = RenderThread {
             queue,
+            spent,
             thread: Some(thread),
             adapter: String::new(),
             max_width: 0,
@@ -250,6 +287,7 @@ impl RenderThread {
     pub fn queue(&self) -> RenderQueue {
         RenderQueue {
             queue: self.queue.clone(),
+            spent: self.spent.clone(),
         }
     }
 }
@@ -273,6 +311,8 @@ struct Renderer<'a> {
     /// The XY and height above the ground last asked for and their camera (local frame),
     /// while the resident is placed there.
     asked: Option<(DVec2, Option<f64>, DVec3)>,
+    /// Stacked pairs handed back, to stack the next pairs into.
+    spent: &'a Spent,
 }
 
 impl Renderer<'_> {
@@ -350,7 +390,8 @@ impl Renderer<'_> {
             .resident
             .render(&settings, &ProgressBar::hidden())
             .map_err(|e| failed(&e))?;
-        let frame = rendered.top_bottom();
+        let mut frame = self.spent.take();
+        rendered.top_bottom_into(&mut frame);
         self.resident.recycle(rendered);
         Ok(RawFrame {
             frame,
@@ -443,5 +484,35 @@ mod tests {
                 request.xy
             );
         }
+    }
+
+    #[test]
+    fn a_pair_handed_back_holds_the_next_live_pair() {
+        let scan = Arc::new(courtyard());
+        let thread = RenderThread::start(scan.clone(), RendererKind::Raytrace).unwrap();
+        let queue = thread.queue();
+        let first = RenderRequest::default_at(&scan.limits);
+        let raw = queue.submit(first.clone(), 64).recv().unwrap().unwrap();
+        let memory = raw.frame.color.as_ptr();
+        queue.give_back(raw.frame);
+        let moved = RenderRequest {
+            xy: DVec2::new(304.0, 697.5),
+            seq: 1,
+            ..first
+        };
+        let raw = queue.submit(moved.clone(), 64).recv().unwrap().unwrap();
+        assert_eq!(
+            raw.frame.color.as_ptr(),
+            memory,
+            "stacked into the pair handed back"
+        );
+        let camera = scan.camera_at(moved.xy).unwrap();
+        let settings = live_settings(&scan, camera - scan.scene.origin, &moved);
+        let alone =
+            crate::raytrace::render(&scan.scene, &settings, &ProgressBar::hidden()).unwrap();
+        assert!(
+            raw.frame == alone.top_bottom(),
+            "the pair differs from a render alone"
+        );
     }
 }

@@ -303,6 +303,7 @@ impl<'a> Session<'a> {
             render_ms,
             encode_ms,
         };
+        self.shared.queue.give_back(raw.frame);
         self.deliver(ws, Message::binary(frame_message(&header, &image)))?;
         if !flight.still {
             self.quiet_since = Instant::now();
