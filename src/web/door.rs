@@ -255,7 +255,8 @@ fn parse_head(bytes: &[u8]) -> Result<Head, HeadError> {
     else {
         return Err(MALFORMED);
     };
-    if method.is_empty() || !target.starts_with('/') || !version.starts_with("HTTP/") {
+    // The target is the routes' to judge (they answer 403/404 for what they do not serve).
+    if method.is_empty() || target.is_empty() || !version.starts_with("HTTP/") {
         return Err(MALFORMED);
     }
     let mut headers = Vec::new();
@@ -323,8 +324,8 @@ pub(crate) fn refuse(client: &TcpStream, status: u16, why: &str) {
     }
 }
 
-/// Sends the head on to the HTTP server, then copies bytes both ways until either side
-/// closes.
+/// Sends the head on to the HTTP server, then copies its reply to the client, and the
+/// request's body (if it has one) to the server, until either side closes.
 fn pass_through(client: TcpStream, head: &Head, http: SocketAddr) {
     let Ok(mut server) = TcpStream::connect(http) else {
         return refuse(&client, 503, "the server is not answering");
@@ -335,16 +336,27 @@ fn pass_through(client: TcpStream, head: &Head, http: SocketAddr) {
     let _ = server.set_nodelay(true);
     let _ = client.set_nodelay(true);
     let _ = client.set_read_timeout(Some(STALL));
-    let (Ok(client_in), Ok(server_out), Ok(client_out)) =
-        (client.try_clone(), server.try_clone(), client.try_clone())
-    else {
+    let Ok(client_out) = client.try_clone() else {
         return;
     };
-    let upstream = std::thread::spawn(move || copy(client_in, server_out));
+    // Most requests have no body: then nothing more is read from the client, and no thread
+    // is spent waiting for it.
+    let body = head.header("Transfer-Encoding").is_some()
+        || head
+            .header("Content-Length")
+            .is_some_and(|n| n.trim() != "0");
+    let upstream = match (body, client.try_clone(), server.try_clone()) {
+        (true, Ok(client_in), Ok(server_out)) => {
+            Some(std::thread::spawn(move || copy(client_in, server_out)))
+        }
+        _ => None,
+    };
     copy(server, client_out);
     // The server closed: so does the client's side, which ends the other copy.
     let _ = client.shutdown(Shutdown::Both);
-    let _ = upstream.join();
+    if let Some(upstream) = upstream {
+        let _ = upstream.join();
+    }
 }
 
 /// Copies `from` to `to` until `from` ends or either fails, then closes `to` for writing and
@@ -386,7 +398,7 @@ mod tests {
         for bad in [
             "GET /\r\n\r\n",
             "GET / HTTP/1.1 x\r\n\r\n",
-            "GET x HTTP/1.1\r\n\r\n",
+            "GET  HTTP/1.1\r\n\r\n",
             "GET / HTTP/1.1\r\nno colon\r\n\r\n",
             "GET / HTTP/1.1\r\nHost : a\r\n\r\n",
             "GET / HTTP/1.1\r\nA: b\r\n folded\r\n\r\n",
