@@ -104,7 +104,7 @@ fn a_slowloris_client_holds_up_no_one_and_is_cut_off_in_time() {
         times.len(),
         quantile(&mut times, 0.5)
     );
-    // Measured: about 1 ms each, 10 ms at worst, on 2 busy cores.
+    // Measured: median 5 ms, worst 18 to 44 ms, on 2 cores shared with other builds.
     assert!(times.len() > 20, "{} answers in 3 s", times.len());
     assert!(worst < Duration::from_millis(500), "{worst:?}");
     // Each slow client gets 408 once its head is HEAD_TIME late, and its connection closes.
@@ -260,9 +260,9 @@ fn twenty_clients_at_once_get_every_static_answer_quickly() {
         times.len(),
         quantile(&mut times, 0.5)
     );
-    // Measured: p99 about 30 ms on 2 cores shared with other work.
-    assert!(times.len() > 200, "only {} answers", times.len());
-    assert!(p99 < Duration::from_millis(250), "p99 {p99:?}");
+    // Measured: about 7500 answers, p99 7 to 10 ms, on 2 cores shared with other builds.
+    assert!(times.len() > 1000, "only {} answers", times.len());
+    assert!(p99 < Duration::from_millis(100), "p99 {p99:?}");
 }
 
 /// `serve` with the ray tracer (no GPU needed) on a small courtyard: a floor and a wall.
