@@ -7,6 +7,7 @@
 //! direction in the page is the direction the renderer gave that pixel.
 
 mod assets;
+pub mod door;
 mod error;
 mod host;
 pub mod panorama;

@@ -1,6 +1,6 @@
-//! The viewer's HTTP server: tiny_http on a listener of our own, a few worker threads that
-//! answer with a route function ([`routes::route`](super::routes::route) for `view`) until
-//! stopped.
+//! The viewer's HTTP server: a front door ([`door`](super::door)) on the public port, tiny_http
+//! on a loopback port behind it, and a few worker threads that answer with a route function
+//! ([`routes::route`](super::routes::route) for `view`) until stopped.
 
 use std::io::Read;
 use std::net::{SocketAddr, TcpListener};
@@ -11,6 +11,7 @@ use std::time::Duration;
 use tiny_http::{Header, Response, Server};
 
 use super::WebError;
+use super::door::{self, Take};
 use super::host::loopback_host;
 use super::panorama::Panorama;
 use super::routes::{Body, Reply, route};
@@ -21,8 +22,10 @@ const WORKERS: usize = 4;
 /// How often an idle worker looks whether it should stop.
 const STOP_POLL: Duration = Duration::from_millis(100);
 
-/// A bound HTTP listener and its stop flag: what `view` and `serve` share.
+/// A bound public port with its front door ([`door`](super::door)), the HTTP server behind it
+/// on a loopback port, and the stop flag: what `view` and `serve` share.
 pub(crate) struct Listener {
+    public: TcpListener,
     server: Arc<Server>,
     addr: SocketAddr,
     internal: SocketAddr,
@@ -32,39 +35,31 @@ pub(crate) struct Listener {
 impl Listener {
     /// Listens on `host:port` (port 0: any free port).
     pub(crate) fn bind(host: &str, port: u16) -> Result<Self, WebError> {
-        let bind_err = |reason: String| WebError::Bind {
-            addr: format!("{host}:{port}"),
-            reason,
-        };
-        let listener = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
-        let addr = listener.local_addr().map_err(|e| bind_err(e.to_string()))?;
-        let server = Server::from_listener(listener, None).map_err(|e| bind_err(e.to_string()))?;
+        let bind_err = |addr: String, reason: String| WebError::Bind { addr, reason };
+        let public = TcpListener::bind((host, port))
+            .map_err(|e| bind_err(format!("{host}:{port}"), e.to_string()))?;
+        let addr = public
+            .local_addr()
+            .map_err(|e| bind_err(format!("{host}:{port}"), e.to_string()))?;
+        let behind = TcpListener::bind("127.0.0.1:0")
+            .map_err(|e| bind_err("127.0.0.1:0".into(), e.to_string()))?;
+        let internal = behind
+            .local_addr()
+            .map_err(|e| bind_err("127.0.0.1:0".into(), e.to_string()))?;
+        let server = Server::from_listener(behind, None)
+            .map_err(|e| bind_err(internal.to_string(), e.to_string()))?;
         Ok(Self {
+            public,
             server: Arc::new(server),
             addr,
-            internal: addr,
+            internal,
             stop: Arc::new(AtomicBool::new(false)),
         })
-    }
-
-    /// Listens on a free loopback port for connections a front door passes on from
-    /// `public`, where clients reach it: the `Host` check and [`addr`](Self::addr) are
-    /// `public`'s.
-    pub(crate) fn bind_behind(public: SocketAddr) -> Result<Self, WebError> {
-        let mut listener = Self::bind("127.0.0.1", 0)?;
-        listener.internal = listener.addr;
-        listener.addr = public;
-        Ok(listener)
     }
 
     /// The address it listens on (with the real port when bound to port 0).
     pub(crate) fn addr(&self) -> SocketAddr {
         self.addr
-    }
-
-    /// The address its socket is bound to (`addr` unless it sits behind a front door).
-    pub(crate) fn internal_addr(&self) -> SocketAddr {
-        self.internal
     }
 
     /// Its stop flag, for threads that serve beside it.
@@ -77,11 +72,18 @@ impl Listener {
         Stopper(self.stop.clone())
     }
 
-    /// Answers requests with `route(method, url)` on `workers` threads until stopped. A bad
-    /// request gets its error reply and changes nothing.
-    pub(crate) fn serve(&self, workers: usize, route: &(dyn Fn(&str, &str) -> Reply + Sync)) {
+    /// Answers requests with `route(method, url)` on `workers` threads until stopped, the
+    /// front door offering each connection to `take` first. A bad request gets its error
+    /// reply and changes nothing.
+    pub(crate) fn serve(
+        &self,
+        workers: usize,
+        route: &(dyn Fn(&str, &str) -> Reply + Sync),
+        take: Option<Arc<Take>>,
+    ) {
         let loopback_only = self.addr.ip().is_loopback();
         std::thread::scope(|scope| {
+            scope.spawn(|| door::accept(&self.public, self.internal, &self.stop, take));
             for _ in 0..workers {
                 scope.spawn(|| {
                     while !self.stop.load(Ordering::SeqCst) {
@@ -137,7 +139,7 @@ impl ViewServer {
     pub fn serve(self) {
         let panorama = &self.panorama;
         self.listener
-            .serve(WORKERS, &|method, url| route(method, url, panorama));
+            .serve(WORKERS, &|method, url| route(method, url, panorama), None);
     }
 
     /// Serves on a background thread; the returned handle stops it and waits.

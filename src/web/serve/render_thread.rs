@@ -9,6 +9,7 @@
 //! pole-merge changes render the resident points again.
 
 use std::panic::AssertUnwindSafe;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
@@ -98,6 +99,9 @@ pub enum RenderFailure {
     /// The renderer failed; the message says how.
     #[error("the render failed: {0}")]
     Failed(String),
+    /// As many `/api/render` requests as the server lets wait are waiting already.
+    #[error("too many renders asked for at once; try again later")]
+    Busy,
     /// The render thread has stopped.
     #[error("the renderer has stopped")]
     Stopped,
@@ -166,10 +170,18 @@ impl RenderQueue {
     }
 }
 
+/// [`RenderThread::render`] calls waiting at once; more are answered
+/// [`RenderFailure::Busy`] at once, so that a storm of render requests neither holds every
+/// HTTP worker nor lengthens the queue. Enough for two pages each with a render running and
+/// a newer one waiting.
+pub const MAX_WAITING_RENDERS: usize = 4;
+
 /// The render thread's handle; dropping it stops the thread once its render is done.
 pub struct RenderThread {
     queue: Arc<LatestQueue<String, Job>>,
     spent: Arc<Spent>,
+    /// [`render`](Self::render) calls waiting for their frame.
+    waiting: AtomicUsize,
     thread: Option<JoinHandle<()>>,
     adapter: String,
     max_width: u32,
@@ -246,6 +258,7 @@ impl RenderThread {
         let mut started = RenderThread {
             queue,
             spent,
+            waiting: AtomicUsize::new(0),
             thread: Some(thread),
             adapter: String::new(),
             max_width: 0,
@@ -275,12 +288,19 @@ impl RenderThread {
     }
 
     /// Queues `request` in place of its client's request still waiting, and waits for its
-    /// frame. Whichever of the two is older is answered [`RenderFailure::Superseded`].
+    /// frame. Whichever of the two is older is answered [`RenderFailure::Superseded`]; with
+    /// [`MAX_WAITING_RENDERS`] calls waiting already, `request` is answered
+    /// [`RenderFailure::Busy`] at once.
     pub fn render(&self, request: RenderRequest) -> Result<LiveFrame, RenderFailure> {
+        if self.waiting.fetch_add(1, Ordering::SeqCst) >= MAX_WAITING_RENDERS {
+            self.waiting.fetch_sub(1, Ordering::SeqCst);
+            return Err(RenderFailure::Busy);
+        }
         let (reply, answer) = channel();
-        let queue = self.queue();
-        queue.push(request, self.width, Answer::Png(reply));
-        answer.recv().unwrap_or(Err(RenderFailure::Stopped))
+        self.queue().push(request, self.width, Answer::Png(reply));
+        let frame = answer.recv().unwrap_or(Err(RenderFailure::Stopped));
+        self.waiting.fetch_sub(1, Ordering::SeqCst);
+        frame
     }
 
     /// A handle for queueing renders from other threads (the live stream's connections).

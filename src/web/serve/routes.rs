@@ -67,9 +67,13 @@ fn frame_reply(result: Result<LiveFrame, RenderFailure>) -> Reply {
                 RenderFailure::Superseded => 409,
                 RenderFailure::NoGround { .. } => 400,
                 RenderFailure::Failed(_) => 500,
-                RenderFailure::Stopped => 503,
+                RenderFailure::Busy | RenderFailure::Stopped => 503,
             };
-            Reply::error(status, e.to_string())
+            let mut reply = Reply::error(status, e.to_string());
+            if e == RenderFailure::Busy {
+                reply.headers = vec![("Retry-After", "1".to_owned())];
+            }
+            reply
         }
     }
 }
@@ -173,5 +177,8 @@ mod tests {
         assert_eq!(route("GET", "/map.png?x=1", &scan, &echo).status, 400);
         assert_eq!(route("POST", "/api/render", &scan, &echo).status, 405);
         assert_eq!(frame_reply(Err(RenderFailure::Superseded)).status, 409);
+        let busy = frame_reply(Err(RenderFailure::Busy));
+        assert_eq!(busy.status, 503);
+        assert_eq!(busy.headers, vec![("Retry-After", "1".to_owned())]);
     }
 }

@@ -2,16 +2,15 @@
 //! connections itself and passes the rest to the viewer's HTTP listener and workers; the
 //! scan, and the render thread.
 
-use std::net::{SocketAddr, TcpListener};
+use std::net::SocketAddr;
 use std::sync::Arc;
 
 use crate::render::RendererKind;
-use crate::web::WebError;
 use crate::web::server::{Listener, Running, Stopper};
 
 use super::ServeError;
 use super::live::StreamOptions;
-use super::live::front::accept;
+use super::live::front::live_door;
 use super::render_thread::RenderThread;
 use super::routes::route;
 use super::scan::LiveScan;
@@ -22,7 +21,6 @@ const WORKERS: usize = 6;
 
 /// A bound live server with its render thread running, not yet serving.
 pub struct LiveServer {
-    public: TcpListener,
     listener: Listener,
     scan: Arc<LiveScan>,
     renderer: RenderThread,
@@ -50,17 +48,10 @@ impl LiveServer {
         scan: LiveScan,
         kind: RendererKind,
     ) -> Result<Self, ServeError> {
-        let bind_err = |reason: String| WebError::Bind {
-            addr: format!("{host}:{port}"),
-            reason,
-        };
-        let public = TcpListener::bind((host, port)).map_err(|e| bind_err(e.to_string()))?;
-        let addr = public.local_addr().map_err(|e| bind_err(e.to_string()))?;
-        let listener = Listener::bind_behind(addr)?;
+        let listener = Listener::bind(host, port)?;
         let scan = Arc::new(scan);
         let renderer = RenderThread::start(scan.clone(), kind)?;
         Ok(LiveServer {
-            public,
             listener,
             scan,
             renderer,
@@ -104,13 +95,12 @@ impl LiveServer {
             stop: self.listener.stop_flag(),
         });
         let (scan, renderer) = (&self.scan, &self.renderer);
-        let http = self.listener.internal_addr();
-        std::thread::scope(|scope| {
-            scope.spawn(|| accept(&self.public, http, &shared));
-            self.listener.serve(WORKERS, &|method, url| {
-                route(method, url, scan, &|request| renderer.render(request))
-            });
-        });
+        let loopback_only = self.addr().ip().is_loopback();
+        self.listener.serve(
+            WORKERS,
+            &|method, url| route(method, url, scan, &|request| renderer.render(request)),
+            Some(live_door(shared, loopback_only)),
+        );
     }
 
     /// Serves on a background thread; the returned handle stops it and waits.
