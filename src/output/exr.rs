@@ -208,6 +208,7 @@ pub fn encode_exr_with(
 /// is an error. A multi-view file's first two views come back stacked top-bottom (first view
 /// on top), the layout of a top-bottom ODS pair.
 pub fn read_exr(path: &Path) -> Result<LinearImage, OutputError> {
+    check_exr_size(path)?;
     let image = exr::prelude::read_first_flat_layer_from_file(path).map_err(exr_error(path))?;
     let layer = &image.layer_data;
     let views = layer.attributes.multi_view_names.as_deref().unwrap_or(&[]);
@@ -228,6 +229,36 @@ pub fn read_exr(path: &Path) -> Result<LinearImage, OutputError> {
     top.coverage.extend(bottom.coverage);
     top.depth.extend(bottom.depth);
     Ok(top)
+}
+
+/// Most pixels a part of an EXR file read here may declare: 16384 x 16384, the largest image
+/// omnicloud writes (a top-bottom pair at the widest `--width`). The decoder allocates a block's declared size before inflating it (found by fuzzing:
+/// a 1 kB frame whose header declared a 2^29-pixel-wide image asked for 110 GB).
+const MAX_EXR_PIXELS: u64 = 1 << 28;
+
+/// Refuses a file whose header declares more than [`MAX_EXR_PIXELS`] in a part, before any
+/// pixel is decoded.
+fn check_exr_size(path: &Path) -> Result<(), OutputError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(exr_error(path))?;
+    for header in &meta.headers {
+        let size = header.layer_size;
+        let pixels = size.width() as u64 * size.height() as u64;
+        if pixels > MAX_EXR_PIXELS {
+            return Err(OutputError::Exr {
+                path: path.to_path_buf(),
+                source: exr::error::Error::Invalid(
+                    format!(
+                        "the header declares {} x {} pixels, more than the {MAX_EXR_PIXELS} \
+                         read here",
+                        size.width(),
+                        size.height()
+                    )
+                    .into(),
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// A layer as the reader gives it: any channels, flat samples.
