@@ -1095,7 +1095,7 @@ fn regression_wkt_with_a_closing_bracket_of_the_other_kind_is_read_at_once() {
         "{:?}",
         started.elapsed()
     );
-    let crs = info.crs.expect("the WKT VLR is kept");
+    let crs = info.las.and_then(|l| l.crs).expect("the WKT VLR is kept");
     assert_eq!((crs.name, crs.epsg), (None, None));
     assert!(
         crs.wkt
@@ -1143,4 +1143,53 @@ fn regression_exr_frame_declaring_a_huge_image_is_refused_before_decoding() {
             "{text}"
         );
     }
+}
+
+#[test]
+fn regression_exr_frame_declaring_far_more_than_it_holds_is_refused_at_once() {
+    // Found by the frame_folder fuzz target (a timeout): a 1.3 kB EXR frame declaring
+    // 6,094,864 x 8 pixels took 1.75 GB and seconds to decode. A frame from a real render is
+    // still read.
+    let dir = tempdir();
+    let path = dir.path().join("frame_000001.exr");
+    std::fs::write(&path, fuzz_input("exr_declares_far_more_than_it_holds.exr")).unwrap();
+    let started = std::time::Instant::now();
+    let e = omnicloud::output::read_image(&path).expect_err("the size is refused");
+    assert!(
+        started.elapsed() < Duration::from_secs(1),
+        "{:?}",
+        started.elapsed()
+    );
+    assert!(e.to_string().contains("6094864 x 8 pixels"), "{e}");
+    assert!(e.to_string().contains("can hold"), "{e}");
+}
+
+#[test]
+fn regression_laszip_vlr_user_id_is_matched_as_the_las_crate_reads_it() {
+    // Found by the read_copc fuzz target: the LASzip VLR's user id `laszip encoded\0X` (a
+    // byte after its NUL changed). The las crate reads a user id up to its first NUL and
+    // decoded with that VLR; the chunk checks did not recognise it, and a node's layer sizes
+    // of 33 GB went unchecked.
+    let dir = tempdir();
+    let path = dir.path().join("user_id.copc.laz");
+    std::fs::write(&path, fuzz_input("copc_laszip_user_id_after_nul.copc.laz")).unwrap();
+    let octree = io::read_octree(&path).expect("the hierarchy is sound");
+    let keys: Vec<io::NodeKey> = octree.nodes.keys().copied().collect();
+    LARGEST.with(|l| l.set(0));
+    let e = io::open_nodes(&path, &keys).expect_err("node 1-1-1-1's layers do not fit");
+    assert!(LARGEST.with(Cell::get) < LARGEST_ALLOWED);
+    assert!(
+        e.to_string().contains("node 1-1-1-1") && e.to_string().contains("layers"),
+        "{e}"
+    );
+}
+
+#[test]
+fn regression_laz_chunk_table_is_checked_when_the_laszip_vlr_lists_no_items() {
+    // Found by the read_las fuzz target: a LASzip VLR with no items and a chunk table
+    // claiming 2,955,349,533 entries; the checks skipped item-less VLRs, laz reserved 47 GB.
+    let dir = tempdir();
+    let bytes = fuzz_input("laz_no_items_huge_chunk_table.las");
+    let e = load_error(dir.path(), "no_items.laz", &bytes).expect("must fail");
+    assert!(e.to_string().contains("2955349533 chunks"), "{e}");
 }

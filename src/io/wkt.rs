@@ -178,7 +178,10 @@ mod tests {
     fn a_closing_bracket_of_the_other_kind_is_none_not_an_endless_loop() {
         // From a fuzzed LAS file's WKT VLR: `](` where `],` stood, so a `]` came inside
         // `(...)` and was pushed as an empty word forever (8 GB in 20 s).
-        assert_eq!(parse(r#"TOWGS84[0](AUTHORITY["EPSG","6152"]]"#), None);
+        assert_eq!(
+            parse(r#"DATUM["d",TOWGS84[0](AUTHORITY["EPSG","6152"]]]"#),
+            None
+        );
         assert_eq!(parse("A(B]"), None);
         assert_eq!(parse("A[B)"), None);
         assert!(parse("A(B)").is_some() && parse("A[B,C[1]]").is_some());
