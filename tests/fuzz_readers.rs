@@ -257,6 +257,9 @@ fn check_error(path: &Path, e: &LoadError) {
 }
 
 fn read_everything(path: &Path) {
+    if let Err(e) = io::read_info(path) {
+        check_error(path, &e);
+    }
     match io::open(path) {
         Err(e) => check_error(path, &e),
         Ok(reader) => {
@@ -1067,4 +1070,126 @@ fn regression_laz_chunk_table_offset_past_the_end_is_an_error() {
     let e = load_error(dir.path(), "offset.laz", &bytes).expect("must fail");
     assert!(matches!(e, LoadError::CorruptPoints { .. }), "{e}");
     assert!(e.to_string().contains("past the end"), "{e}");
+}
+
+/// An input a fuzz target found, kept under tests/data/fuzz/.
+fn fuzz_input(name: &str) -> Vec<u8> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fuzz")
+        .join(name);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+#[test]
+fn regression_wkt_with_a_closing_bracket_of_the_other_kind_is_read_at_once() {
+    // Found by the read_las fuzz target: a LAS file whose WKT VLR reads `...](AUTHORITY[..]]`,
+    // a `]` inside `(...)`. The WKT parser took it as an empty word and met it again forever:
+    // 8 GB in 20 s. Now the WKT does not parse, and the CRS keeps only its text.
+    let dir = tempdir();
+    let bytes = fuzz_input("las_wkt_bracket_mismatch.las");
+    exercise(dir.path(), "wkt.las", &bytes);
+    let started = std::time::Instant::now();
+    let info = io::read_info(&dir.path().join("wkt.las")).expect("the header reads");
+    assert!(
+        started.elapsed() < Duration::from_secs(2),
+        "{:?}",
+        started.elapsed()
+    );
+    let crs = info.las.and_then(|l| l.crs).expect("the WKT VLR is kept");
+    assert_eq!((crs.name, crs.epsg), (None, None));
+    assert!(
+        crs.wkt
+            .is_some_and(|w| w.starts_with("PROJCS[\"NAD83(HARN)"))
+    );
+    assert_eq!(info.point_count, 60);
+}
+
+#[test]
+fn regression_copc_node_layer_sizes_are_checked_before_the_decoder_allocates_them() {
+    // Found by the read_copc fuzz target: a 2 kB COPC file (40 points, one node) whose node
+    // chunk's layer sizes add up to 2 GB. Reading the node's points made laz zero-fill the
+    // layers first (the plain LAZ reader checks them; reading chosen nodes did not).
+    let dir = tempdir();
+    let path = dir.path().join("node.copc.laz");
+    std::fs::write(&path, fuzz_input("copc_node_layer_sizes.copc.laz")).unwrap();
+    let octree = io::read_octree(&path).expect("the hierarchy is sound");
+    let keys: Vec<io::NodeKey> = octree.nodes.keys().copied().collect();
+    LARGEST.with(|l| l.set(0));
+    let e = io::open_nodes(&path, &keys).expect_err("the node's layers do not fit");
+    assert!(LARGEST.with(Cell::get) < LARGEST_ALLOWED);
+    assert!(matches!(e, LoadError::CorruptCopc { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("node.copc.laz") && text.contains("node 0-0-0-0"),
+        "{text}"
+    );
+    assert!(text.contains("bytes of layers"), "{text}");
+}
+
+#[test]
+fn regression_exr_frame_declaring_a_huge_image_is_refused_before_decoding() {
+    // Found by the frame_folder fuzz target: a 1.9 kB EXR frame whose header declares an
+    // image 2^29 pixels wide; the exr crate allocated a 110 GB block for it and aborted.
+    let dir = tempdir();
+    let path = dir.path().join("frame_000000.exr");
+    std::fs::write(&path, fuzz_input("exr_huge_data_window.exr")).unwrap();
+    LARGEST.with(|l| l.set(0));
+    let e = omnicloud::output::read_image(&path).expect_err("the size is refused");
+    let frames = omnicloud::frames::dimensions(&path).expect_err("the folder's frame too");
+    assert!(LARGEST.with(Cell::get) < LARGEST_ALLOWED);
+    for text in [e.to_string(), frames.to_string()] {
+        assert!(
+            text.contains("frame_000000.exr") && text.contains("pixels"),
+            "{text}"
+        );
+    }
+}
+
+#[test]
+fn regression_exr_frame_declaring_far_more_than_it_holds_is_refused_at_once() {
+    // Found by the frame_folder fuzz target (a timeout): a 1.3 kB EXR frame declaring
+    // 6,094,864 x 8 pixels took 1.75 GB and seconds to decode. A frame from a real render is
+    // still read.
+    let dir = tempdir();
+    let path = dir.path().join("frame_000001.exr");
+    std::fs::write(&path, fuzz_input("exr_declares_far_more_than_it_holds.exr")).unwrap();
+    let started = std::time::Instant::now();
+    let e = omnicloud::output::read_image(&path).expect_err("the size is refused");
+    assert!(
+        started.elapsed() < Duration::from_secs(1),
+        "{:?}",
+        started.elapsed()
+    );
+    assert!(e.to_string().contains("6094864 x 8 pixels"), "{e}");
+    assert!(e.to_string().contains("can hold"), "{e}");
+}
+
+#[test]
+fn regression_laszip_vlr_user_id_is_matched_as_the_las_crate_reads_it() {
+    // Found by the read_copc fuzz target: the LASzip VLR's user id `laszip encoded\0X` (a
+    // byte after its NUL changed). The las crate reads a user id up to its first NUL and
+    // decoded with that VLR; the chunk checks did not recognise it, and a node's layer sizes
+    // of 33 GB went unchecked.
+    let dir = tempdir();
+    let path = dir.path().join("user_id.copc.laz");
+    std::fs::write(&path, fuzz_input("copc_laszip_user_id_after_nul.copc.laz")).unwrap();
+    let octree = io::read_octree(&path).expect("the hierarchy is sound");
+    let keys: Vec<io::NodeKey> = octree.nodes.keys().copied().collect();
+    LARGEST.with(|l| l.set(0));
+    let e = io::open_nodes(&path, &keys).expect_err("node 1-1-1-1's layers do not fit");
+    assert!(LARGEST.with(Cell::get) < LARGEST_ALLOWED);
+    assert!(
+        e.to_string().contains("node 1-1-1-1") && e.to_string().contains("layers"),
+        "{e}"
+    );
+}
+
+#[test]
+fn regression_laz_chunk_table_is_checked_when_the_laszip_vlr_lists_no_items() {
+    // Found by the read_las fuzz target: a LASzip VLR with no items and a chunk table
+    // claiming 2,955,349,533 entries; the checks skipped item-less VLRs, laz reserved 47 GB.
+    let dir = tempdir();
+    let bytes = fuzz_input("laz_no_items_huge_chunk_table.las");
+    let e = load_error(dir.path(), "no_items.laz", &bytes).expect("must fail");
+    assert!(e.to_string().contains("2955349533 chunks"), "{e}");
 }

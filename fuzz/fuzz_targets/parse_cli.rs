@@ -1,15 +1,14 @@
 //! Command lines as a user types them: the first byte picks a subcommand prefix, the rest are
 //! NUL-separated arguments. Each value also goes through every value parser; a parsed
-//! `render`/`bench` line goes through the checks and set-up that run before a render
-//! (output names, memory budget, views, pole-merge factors, ray directions).
+//! `render` line goes through the checks and set-up that run before a render (output names,
+//! memory budget, image, views, ray directions).
 #![no_main]
 
 use clap::Parser;
-use glam::DVec3;
-use omnicloud::cli::args::{BenchArgs, RenderArgs};
+use omnicloud::cli::render_args::RenderArgs;
 use omnicloud::cli::{Cli, Command, parse};
 use omnicloud::prepare::{RadiusChoice, Subsample};
-use omnicloud::projection::{Camera, Equirect, PoleMerge, Stereo};
+use omnicloud::projection::{Equirect, Image, PoleMerge};
 use omnicloud::render::{ColorMode, Imposter, Proxy, RenderSettings, RendererKind, Shading};
 
 /// Prefixes the first byte chooses from, so mutations spend their time on the options.
@@ -19,9 +18,13 @@ const PREFIXES: &[&[&str]] = &[
     &["bench", "scene.laz"],
     &["compare", "ref.exr", "test.exr"],
     &["info", "in.las"],
+    &["index", "in.las", "-o", "out.copc.laz"],
+    &["view", "pano.png"],
+    &["tour", "scan.laz", "--path", "walk.csv", "-o", "frames"],
+    &["serve", "scan.laz"],
+    &["video", "frames", "-o", "tour.mp4"],
     &[],
 ];
-
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Some((&pick, rest)) = data.split_first() else {
         return;
@@ -37,11 +40,11 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         .chain(prefix.iter().copied())
         .chain(values.iter().copied());
     match Cli::try_parse_from(argv) {
-        Ok(cli) => match cli.command {
-            Command::Render(args) => before_render(&args),
-            Command::Bench(args) => before_bench(&args),
-            Command::Compare(_) | Command::Info { .. } => {}
-        },
+        Ok(cli) => {
+            if let Command::Render(args) = cli.command {
+                before_render(&args);
+            }
+        }
         Err(e) => assert!(!e.to_string().is_empty()),
     }
 });
@@ -88,39 +91,27 @@ fn before_render(args: &RenderArgs) {
         let _ = omnicloud::output::eye_path(&args.output, "left");
     }
     let eyes = args.view.eyes();
+    let width = args.render_width();
+    let cap = args.max_memory.unwrap_or(1 << 30);
     // The budget check, for point counts up to the largest a header can declare.
     for points in [0, 1, 1 << 20, u64::from(u32::MAX), u64::MAX] {
-        let estimate = omnicloud::memory::raytrace_estimate(points, points, args.width, eyes);
-        let cap = args.max_memory.unwrap_or(1 << 30);
+        let estimate = omnicloud::memory::raytrace_estimate(points, points, width, eyes);
         let _ = omnicloud::memory::check_budget(&args.file, &estimate, cap, false);
     }
     // The streamed rasterizer's chunk size under the cap.
-    let cap = args.max_memory.unwrap_or(1 << 30);
-    let _ = omnicloud::memory::raster_chunk_points(&args.file, args.width, eyes, cap, false);
-    let settings = RenderSettings {
-        image: Equirect::from_width(args.width),
-        camera: Camera::new(args.view.camera.unwrap_or(DVec3::ZERO), args.view.yaw),
-        stereo: args.view.stereo_mode().unwrap_or(Stereo::Mono),
-        color: args.color,
-        shading: args.shading,
-        proxy: args.proxy,
-        imposter: args.imposter,
+    let _ = omnicloud::memory::raster_chunk_points(&args.file, width, eyes, cap, false);
+    let _ = args.given_lengths();
+    let _ = args.look();
+    let Ok(image) = Image::new(args.view.projection, width) else {
+        return;
     };
-    check_views(&settings);
-}
-
-/// What `omnicloud bench` builds from its arguments before loading the scene.
-fn before_bench(args: &BenchArgs) {
-    let mut settings = RenderSettings::new(
-        args.width.unwrap_or(1920),
-        Camera::new(args.view.camera.unwrap_or(DVec3::ZERO), args.view.yaw),
-    );
-    settings.stereo = args.view.stereo_mode().unwrap_or(Stereo::Mono);
-    check_views(&settings);
-    if let Some(modes) = &args.modes {
-        for m in modes {
-            let _ = m.label();
-        }
+    let center = match args.view.camera {
+        Some(omnicloud::prepare::CameraChoice::At(p)) => p,
+        _ => glam::DVec3::ZERO,
+    };
+    let camera = args.view.camera_at(center);
+    if let Ok(settings) = args.draw.settings(&args.view, image, camera) {
+        check_views(&settings);
     }
 }
 
@@ -131,11 +122,19 @@ fn check_views(settings: &RenderSettings) {
     for view in settings.views() {
         for j in (0..image.height).step_by((image.height as usize / 7).max(1)) {
             for i in (0..image.width).step_by((image.width as usize / 9).max(1)) {
-                let (origin, dir) = view.pixel_ray(&image, i, j);
-                assert!(dir.is_finite() && (dir.length() - 1.0).abs() < 1e-9, "{dir}");
+                let Some((origin, dir)) = view.image_ray(&image, i, j) else {
+                    continue;
+                };
+                assert!(
+                    dir.is_finite() && (dir.length() - 1.0).abs() < 1e-9,
+                    "{dir}"
+                );
                 let p = origin + 10.0 * dir;
                 if let Some((lam, phi)) = view.project(p) {
-                    assert!(lam.is_finite() && phi.is_finite(), "({i}, {j}): {lam} {phi}");
+                    assert!(
+                        lam.is_finite() && phi.is_finite(),
+                        "({i}, {j}): {lam} {phi}"
+                    );
                 }
             }
         }

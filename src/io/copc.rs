@@ -341,6 +341,7 @@ pub fn open_nodes_stopping(
         }
     }
     entries.sort_by_key(|e| e.offset);
+    check_node_chunks(path, &entries)?;
     Ok(PointReader {
         info,
         source: Source::Copc(Box::new(CopcSource {
@@ -354,6 +355,42 @@ pub fn open_nodes_stopping(
             stopped: stopped.iter().map(|k| k.to_las()).collect(),
         })),
     })
+}
+
+/// Checks the layer sizes of the chunks of `entries` before the decoder reads them.
+fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
+    use super::las::laz_chunks::{Layout, NodeChunks};
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
+    let file_len = file
+        .metadata()
+        .map_err(|e| LoadError::from_io(path, e))?
+        .len();
+    let mut read = BufReader::new(file);
+    let raw = las::raw::Header::read_from(&mut read).map_err(|e| corrupt(path, e.to_string()))?;
+    let layout = Layout {
+        file_len,
+        header_size: u64::from(raw.header_size),
+        number_of_vlrs: raw.number_of_variable_length_records,
+        offset_to_point_data: u64::from(raw.offset_to_point_data),
+        declared_points: 0,
+    };
+    let chunks = NodeChunks::new(path, &mut read, &layout)?;
+    for entry in entries {
+        let size = u64::try_from(entry.byte_size).unwrap_or(0);
+        chunks
+            .check(path, &mut read, entry.offset, size)
+            .map_err(|detail| {
+                let k = entry.key;
+                corrupt(
+                    path,
+                    format!("node {}-{}-{}-{}: {detail}", k.l, k.x, k.y, k.z),
+                )
+            })?;
+    }
+    Ok(())
 }
 
 /// Streams the points of chosen nodes, a node per chunk.

@@ -13,7 +13,7 @@ use std::fs::File;
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-mod laz_chunks;
+pub(super) mod laz_chunks;
 
 /// Largest decoded byte buffer per read: 16 MiB, well above 65,536 points of any real format.
 const MAX_CHUNK_BYTES: u64 = 16 << 20;

@@ -83,6 +83,10 @@ pub(super) fn parse(text: &str) -> Option<WktNode> {
                     if matches!(b.get(*i), Some(b'[' | b'(')) {
                         *i = start;
                         args.push(WktArg::Node(node(b, i, depth + 1)?));
+                    } else if *i == start {
+                        // A closing bracket of the other kind (`]` inside `(...)`): taken as
+                        // an empty word it would be met again, forever.
+                        return None;
                     } else {
                         let word = std::str::from_utf8(&b[start..*i]).ok()?.trim();
                         args.push(WktArg::Word(word.to_string()));
@@ -168,6 +172,19 @@ mod tests {
         assert_eq!(parse(&deep), None);
         let fine = "A[".repeat(60) + &"]".repeat(60);
         assert!(parse(&fine).is_some());
+    }
+
+    #[test]
+    fn a_closing_bracket_of_the_other_kind_is_none_not_an_endless_loop() {
+        // From a fuzzed LAS file's WKT VLR: `](` where `],` stood, so a `]` came inside
+        // `(...)` and was pushed as an empty word forever (8 GB in 20 s).
+        assert_eq!(
+            parse(r#"DATUM["d",TOWGS84[0](AUTHORITY["EPSG","6152"]]]"#),
+            None
+        );
+        assert_eq!(parse("A(B]"), None);
+        assert_eq!(parse("A[B)"), None);
+        assert!(parse("A(B)").is_some() && parse("A[B,C[1]]").is_some());
     }
 
     #[test]

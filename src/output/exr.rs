@@ -208,6 +208,7 @@ pub fn encode_exr_with(
 /// is an error. A multi-view file's first two views come back stacked top-bottom (first view
 /// on top), the layout of a top-bottom ODS pair.
 pub fn read_exr(path: &Path) -> Result<LinearImage, OutputError> {
+    check_exr_size(path)?;
     let image = exr::prelude::read_first_flat_layer_from_file(path).map_err(exr_error(path))?;
     let layer = &image.layer_data;
     let views = layer.attributes.multi_view_names.as_deref().unwrap_or(&[]);
@@ -228,6 +229,54 @@ pub fn read_exr(path: &Path) -> Result<LinearImage, OutputError> {
     top.coverage.extend(bottom.coverage);
     top.depth.extend(bottom.depth);
     Ok(top)
+}
+
+/// Most pixels a part of an EXR file read here may declare: 16384 x 16384, the largest image
+/// omnicloud writes (a top-bottom pair at the widest `--width`). The decoder allocates a
+/// block's declared size before inflating it (found by fuzzing: a 1 kB frame whose header
+/// declared a 2^29-pixel-wide image asked for 110 GB).
+const MAX_EXR_PIXELS: u64 = 1 << 28;
+
+/// Most raw bytes a part may declare per byte of the file: above what any EXR compression
+/// reaches (run-length then deflate on a constant image). A 1.3 kB frame declaring 6,094,864
+/// x 8 pixels (found by fuzzing) otherwise took 1.75 GB and seconds to decode.
+const MAX_EXR_EXPANSION: u64 = 1 << 16;
+
+/// Refuses a file whose header declares more than [`MAX_EXR_PIXELS`] in a part, or more raw
+/// bytes than [`MAX_EXR_EXPANSION`] times the file's size, before any pixel is decoded.
+fn check_exr_size(path: &Path) -> Result<(), OutputError> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).map_err(exr_error(path))?;
+    let file_len = std::fs::metadata(path)
+        .map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            action: "reading",
+            source,
+        })?
+        .len();
+    for header in &meta.headers {
+        let size = header.layer_size;
+        let pixels = (size.width() as u64).saturating_mul(size.height() as u64);
+        let raw = pixels.saturating_mul(header.channels.bytes_per_pixel as u64);
+        let reason = if pixels > MAX_EXR_PIXELS {
+            format!("more than the {MAX_EXR_PIXELS} read here")
+        } else if raw > file_len.saturating_mul(MAX_EXR_EXPANSION) {
+            format!("{raw} bytes, more than a {file_len}-byte file can hold")
+        } else {
+            continue;
+        };
+        return Err(OutputError::Exr {
+            path: path.to_path_buf(),
+            source: exr::error::Error::Invalid(
+                format!(
+                    "the header declares {} x {} pixels, {reason}",
+                    size.width(),
+                    size.height()
+                )
+                .into(),
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// A layer as the reader gives it: any channels, flat samples.

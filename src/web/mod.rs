@@ -19,4 +19,7 @@ mod server;
 
 pub use error::WebError;
 pub use panorama::{Panorama, PanoramaInfo, PanoramaKind};
+/// The `Range` header as the servers read it, public for the fuzz targets.
+#[doc(hidden)]
+pub use server::{FileRange, byte_range};
 pub use server::{Running, Stopper, ViewServer};

@@ -283,7 +283,7 @@ fn answer(
 
 /// The part of a file a reply sends.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum FileRange {
+pub enum FileRange {
     /// All of its `len` bytes.
     Whole(u64),
     /// Bytes `start..=end` of `len`.
@@ -310,7 +310,7 @@ fn open_range(
 /// Reads a `Range: bytes=...` header for a file of `len` bytes. One range is served; a form
 /// this server does not serve (several ranges, other units, garbage) gets the whole file, as
 /// RFC 9110 allows.
-fn byte_range(header: &str, len: u64) -> FileRange {
+pub fn byte_range(header: &str, len: u64) -> FileRange {
     let Some(spec) = header.trim().strip_prefix("bytes=") else {
         return FileRange::Whole(len);
     };
