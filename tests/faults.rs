@@ -104,9 +104,12 @@ fn kill_9_at_random_moments_then_resuming_gives_the_uninterrupted_folder() {
     // About a tenth of a second a frame on a loaded CI machine: room to land inside one.
     const WIDTH: u32 = 256;
     const KILLS: usize = 3;
-    let reference = tempfile::tempdir().unwrap();
+    // Both runs write into the same folder name (`tour.json` holds it in every frame's
+    // command): the uninterrupted one first, then moved aside.
+    let base = tempfile::tempdir().unwrap();
+    let (dir, reference) = (base.path().join("tour"), base.path().join("reference"));
     let out = omnicloud()
-        .args(tour_args(reference.path(), FRAMES, WIDTH))
+        .args(tour_args(&dir, FRAMES, WIDTH))
         .output()
         .unwrap();
     assert!(
@@ -114,23 +117,23 @@ fn kill_9_at_random_moments_then_resuming_gives_the_uninterrupted_folder() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    std::fs::rename(&dir, &reference).unwrap();
 
-    let dir = tempfile::tempdir().unwrap();
     let mut rng = SplitMix64::new(0x6b69_6c6c_2d39);
     let mut killed = 0;
     while killed < KILLS {
-        let before = frame_count(dir.path());
+        let before = frame_count(&dir);
         // Kill once a few more frames are done, at a random moment within the next frame.
         let target = (before + 1 + (rng.next_u64() % 5) as usize).min(FRAMES - 1);
         let delay = Duration::from_millis(rng.next_u64() % 60);
         let mut child = omnicloud()
-            .args(tour_args(dir.path(), FRAMES, WIDTH))
+            .args(tour_args(&dir, FRAMES, WIDTH))
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
         let deadline = Instant::now() + Duration::from_secs(300);
-        while frame_count(dir.path()) < target && Instant::now() < deadline {
+        while frame_count(&dir) < target && Instant::now() < deadline {
             if child.try_wait().unwrap().is_some() {
                 break;
             }
@@ -142,17 +145,17 @@ fn kill_9_at_random_moments_then_resuming_gives_the_uninterrupted_folder() {
         child.wait().unwrap();
         assert!(!finished, "the tour finished before kill {}", killed + 1);
         killed += 1;
-        let after = frame_count(dir.path());
+        let after = frame_count(&dir);
         eprintln!("kill -9 #{killed}: {before} -> {after} frames (target {target}, +{delay:?})");
-        assert_frames_whole(dir.path(), WIDTH);
+        assert_frames_whole(&dir, WIDTH);
     }
     let out = omnicloud()
-        .args(tour_args(dir.path(), FRAMES, WIDTH))
+        .args(tour_args(&dir, FRAMES, WIDTH))
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    let (got, want) = (folder(dir.path()), folder(reference.path()));
+    let (got, want) = (folder(&dir), folder(&reference));
     assert_eq!(
         got.keys().collect::<Vec<_>>(),
         want.keys().collect::<Vec<_>>(),

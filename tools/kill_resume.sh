@@ -25,8 +25,11 @@ tour() {
 }
 count() { find "$1" -maxdepth 1 -name 'frame_*.png' 2>/dev/null | wc -l; }
 
+# Both runs write into the same folder name (tour.json holds it in every frame's command):
+# the uninterrupted one first, then moved aside.
 start=$EPOCHREALTIME
-tour "$work/reference"
+tour "$work/killed"
+mv "$work/killed" "$work/reference"
 reference_s=$(awk -v a="$start" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.1f", b - a }')
 echo "uninterrupted: $frames frames in $reference_s s"
 
