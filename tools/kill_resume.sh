@@ -19,11 +19,9 @@ renderer=${RENDERER:-raster}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-tour() {
-  "$bin" tour "$scan" --path "$path" -o "$1" --stereo ods --width "$width" \
-    --frames "$frames" --renderer "$renderer" -q
-}
-count() { find "$1" -maxdepth 1 -name 'frame_*.png' 2>/dev/null | wc -l; }
+args=(--path "$path" --stereo ods --width "$width" --frames "$frames" --renderer "$renderer" -q)
+tour() { "$bin" tour "$scan" -o "$1" "${args[@]}"; }
+count() { (find "$1" -maxdepth 1 -name "frame_*.png" 2>/dev/null || true) | wc -l; }
 
 # Both runs write into the same folder name (tour.json holds it in every frame's command):
 # the uninterrupted one first, then moved aside.
@@ -39,7 +37,8 @@ for k in $(seq 1 "$kills"); do
   # A random moment within the next stretch of the run (the scan loads again each time).
   delay=$(awk -v r=$RANDOM -v t="$reference_s" -v k="$kills" \
     'BEGIN { printf "%.2f", 1 + r / 32768 * t / k }')
-  tour "$work/killed" &
+  # The binary itself in the background, so that $! is its process, not a subshell's.
+  "$bin" tour "$scan" -o "$work/killed" "${args[@]}" &
   pid=$!
   sleep "$delay"
   if ! kill -0 "$pid" 2>/dev/null; then
@@ -48,7 +47,7 @@ for k in $(seq 1 "$kills"); do
   kill -9 "$pid"
   wait "$pid" 2>/dev/null || true
   after=$(count "$work/killed")
-  temps=$(find "$work/killed" -maxdepth 1 -name '.*.tmp' | wc -l)
+  temps=$( (find "$work/killed" -maxdepth 1 -name '.*.tmp' 2>/dev/null || true) | wc -l)
   for f in "$work/killed"/frame_*.png; do
     [ -e "$f" ] || continue
     if [ "$(tail -c 8 "$f" | od -An -tx1 | tr -d ' \n')" != "49454e44ae426082" ]; then
