@@ -227,3 +227,53 @@ fn a_small_node_cache_evicts_within_its_bound_and_draws_the_same_frames() {
         roomy.cache_counts()
     );
 }
+
+/// A scan truncated, or replaced by another file, while a tour reads it node by node: the next
+/// frame is an error naming the file, never a frame drawn from a mix of the two files.
+#[test]
+fn a_scan_changed_during_the_tour_is_an_error_naming_it() {
+    if gpu::rasterizer().is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (copc, request, planned) = indexed_walk(dir.path(), 3);
+    let original = std::fs::read(&copc).unwrap();
+    let hidden = ProgressBar::hidden();
+    let frames = poses(&planned);
+    let changes: [(&str, &dyn Fn()); 2] = [
+        ("truncated", &|| {
+            let f = std::fs::OpenOptions::new().write(true).open(&copc).unwrap();
+            f.set_len(original.len() as u64 / 2).unwrap();
+        }),
+        ("replaced", &|| {
+            // Same bytes, another file: what `cp new.laz scan.laz.tmp && mv` leaves.
+            let other = dir.path().join("other.copc.laz");
+            std::fs::write(&other, &original).unwrap();
+            std::fs::rename(&other, &copc).unwrap();
+        }),
+    ];
+    for (how, change) in changes {
+        std::fs::write(&copc, &original).unwrap();
+        // Every node read on each frame (0 px): the second frame must read the file again.
+        let mut nodes = stream(
+            gpu::rasterizer().unwrap(),
+            &copc,
+            &request,
+            &planned,
+            0.0,
+            0,
+        );
+        nodes.render(&frames[0], &hidden).unwrap();
+        change();
+        let err = match nodes.render(&frames[1], &hidden) {
+            Ok(_) => panic!("{how}: a frame was drawn from the changed scan"),
+            Err(e) => e.to_string(),
+        };
+        eprintln!("{how}: {err}");
+        assert!(err.contains(&copc.display().to_string()), "{how}: {err}");
+        assert!(
+            err.contains("changed while it was being read"),
+            "{how}: {err}"
+        );
+    }
+}

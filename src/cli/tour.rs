@@ -320,6 +320,12 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
 
     let range = shard.frames(total);
     let (todo, skipped) = tour::run::frames_to_render(&options, range.clone());
+    let removed = tour::run::remove_stale_temps(&options, &todo);
+    if removed > 0 {
+        say(format!(
+            "removed {removed} unfinished temporary file(s) left by a killed run"
+        ));
+    }
     if args.shard.is_some() {
         say(format!(
             "shard {shard}: frames {}",

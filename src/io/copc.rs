@@ -158,8 +158,11 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
         });
     }
     let reader = guarded(path, "reading the COPC hierarchy", || {
-        let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
-        las::CopcReader::new(BufReader::new(file)).map_err(|e| match e {
+        let open = || File::open(path).map_err(|e| LoadError::from_io(path, e));
+        let header = las::Header::new(&mut BufReader::new(open()?))
+            .map_err(|e| corrupt(path, e.to_string()))?;
+        check_pages(path, &header)?;
+        las::CopcReader::new(BufReader::new(open()?)).map_err(|e| match e {
             las::Error::CopcHierarchyEvlrNotFound => corrupt(
                 path,
                 "the hierarchy EVLR is missing, or a page it points to lies outside it",
@@ -175,6 +178,83 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
         })
     })?;
     Ok((info, reader))
+}
+
+/// A hierarchy entry that refers to a child page: `(node, page offset, page size)`.
+type PageRef = ([i32; 4], u64, i32);
+
+/// The entries of a hierarchy page (32 bytes each) that refer to a child page.
+fn page_refs(page: &[u8]) -> impl Iterator<Item = PageRef> + '_ {
+    let i32_at = |e: &[u8], at: usize| i32::from_le_bytes(e[at..at + 4].try_into().unwrap());
+    page.chunks_exact(32)
+        .filter(move |e| i32_at(e, 28) == -1)
+        .map(move |e| {
+            let key = [i32_at(e, 0), i32_at(e, 4), i32_at(e, 8), i32_at(e, 12)];
+            (
+                key,
+                u64::from_le_bytes(e[16..24].try_into().unwrap()),
+                i32_at(e, 24),
+            )
+        })
+}
+
+/// Refuses a hierarchy whose pages refer to one page twice, as the `las` crate would follow
+/// them: a page that refers to itself or to a page above it is otherwise followed forever
+/// (memory growing all the while). Pages as the crate finds them: the first page read for a
+/// node serves every reference to it; a page outside the EVLR is left for the crate to report.
+fn check_pages(path: &Path, header: &las::Header) -> Result<(), LoadError> {
+    let info = header.vlrs().iter().find(|v| v.is_copc_info());
+    let hierarchy = header.evlrs().iter().find(|v| v.is_copc_hierarchy());
+    let (Some(info), Some(hierarchy)) = (info, hierarchy) else {
+        return Ok(());
+    };
+    let u64_at = |at: usize| {
+        info.data
+            .get(at..at + 8)
+            .map(|b| u64::from_le_bytes(b.try_into().unwrap()))
+    };
+    // The root page's offset and size follow the cube and spacing in the info VLR.
+    let (Some(root_offset), Some(root_size)) = (u64_at(40), u64_at(48)) else {
+        return Ok(());
+    };
+    let page = |offset: u64, size: u64| {
+        let start = usize::try_from(offset.checked_sub(root_offset)?).ok()?;
+        let end = start.checked_add(usize::try_from(size).ok()?)?;
+        hierarchy.data.get(start..end)
+    };
+    let Some(root) = page(root_offset, root_size) else {
+        return Ok(());
+    };
+    let mut pages = HashMap::new();
+    let mut pending: Vec<PageRef> = page_refs(root).collect();
+    while let Some((key, offset, size)) = pending.pop() {
+        if pages.contains_key(&key) {
+            continue;
+        }
+        let Some(bytes) = u64::try_from(size).ok().and_then(|size| page(offset, size)) else {
+            return Ok(());
+        };
+        pending.extend(page_refs(bytes));
+        pages.insert(key, bytes);
+    }
+    let mut followed = HashSet::new();
+    let mut stack = vec![root];
+    while let Some(bytes) = stack.pop() {
+        for (key, offset, _) in page_refs(bytes) {
+            if !followed.insert(key) {
+                return Err(corrupt(
+                    path,
+                    format!(
+                        "the hierarchy page of node {}-{}-{}-{} (at byte {offset}) is reached \
+                         twice: the pages refer back to themselves",
+                        key[0], key[1], key[2], key[3]
+                    ),
+                ));
+            }
+            stack.extend(pages.get(&key));
+        }
+    }
+    Ok(())
 }
 
 /// Reads and checks a COPC file's octree: every node a valid address, its chunk inside the

@@ -161,6 +161,44 @@ fn records_in_file(raw: &las::raw::Header, file_len: u64) -> Option<(u64, u64)> 
     })
 }
 
+/// A header error that names the point count when the count is at fault: the `las` crate
+/// seeks past the declared point records, which fails (`EINVAL`) once they would end beyond
+/// what the filesystem can address.
+fn point_count_error(
+    path: &Path,
+    raw: &las::raw::Header,
+    file_len: u64,
+    err: las::Error,
+) -> LoadError {
+    if let Some((declared, available)) = records_in_file(raw, file_len)
+        && declared > available
+    {
+        return LoadError::PointCountExceedsFile {
+            path: path.to_path_buf(),
+            declared,
+            available,
+        };
+    }
+    match err {
+        las::Error::Io(e) if e.kind() == std::io::ErrorKind::InvalidInput => {
+            let declared = raw
+                .large_file
+                .map_or(0, |l| l.number_of_point_records)
+                .max(u64::from(raw.number_of_point_records));
+            LoadError::CorruptHeader {
+                path: path.to_path_buf(),
+                format: "LAS",
+                detail: format!(
+                    "the header declares {declared} points of {} bytes, more than a file can \
+                     hold ({e})",
+                    raw.point_data_record_length
+                ),
+            }
+        }
+        other => header_error(path, other),
+    }
+}
+
 fn open_file(path: &Path) -> Result<(BufReader<File>, u64), LoadError> {
     let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
     let file_len = file
@@ -178,7 +216,7 @@ pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
     let raw = checked_raw_header(path, &mut read, file_len, false)?;
     let records = records_in_file(&raw, file_len).map(|(_, available)| available);
     let header = guarded(path, "reading the header", || {
-        las::Header::new(&mut read).map_err(|e| header_error(path, e))
+        las::Header::new(&mut read).map_err(|e| point_count_error(path, &raw, file_len, e))
     })?;
     let mut info = file_info(path, &header)?;
     info.records_in_file = records;

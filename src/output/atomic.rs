@@ -87,6 +87,21 @@ fn temp_place(dest: &Path) -> (&Path, String) {
     (dir, name)
 }
 
+/// Random characters in a temporary file's name, between `.NAME.` and `.tmp`.
+const TEMP_RANDOM: usize = 6;
+
+/// The file name that a temporary file named `temp` (`.NAME.XXXXXX.tmp`) was staged for, or
+/// `None` for any other name. A process killed outright (`kill -9`, power loss) leaves its
+/// temporary files behind: a caller that knows no live process writes `NAME` removes them.
+pub fn staged_for(temp: &str) -> Option<&str> {
+    let inner = temp.strip_prefix('.')?.strip_suffix(".tmp")?;
+    let (name, random) = inner.rsplit_once('.')?;
+    (!name.is_empty()
+        && random.len() == TEMP_RANDOM
+        && random.bytes().all(|b| b.is_ascii_alphanumeric()))
+    .then_some(name)
+}
+
 /// A hidden temporary file next to `dest` (same directory, so the rename is atomic), named
 /// in the registry before it exists, so an interrupt at any point finds it.
 fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
@@ -94,6 +109,7 @@ fn create_temp(dest: &Path) -> std::io::Result<NamedTempFile> {
     let prefix = format!(".{name}.");
     tempfile::Builder::new()
         .prefix(&prefix)
+        .rand_bytes(TEMP_RANDOM)
         .suffix(".tmp")
         .make_in(dir, |path| {
             live_temps().push(path.to_path_buf());
@@ -228,4 +244,39 @@ pub fn write_atomically(
 /// leaves none of them behind. Returns the destinations in order.
 pub fn commit_all(staged: Vec<StagedFile>) -> Result<Vec<PathBuf>, OutputError> {
     staged.into_iter().map(StagedFile::commit).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_temporary_file_names_what_it_was_staged_for() {
+        let dir = tempfile::tempdir().unwrap();
+        let dest = dir.path().join("frame_000003.png");
+        let staged = StagedFile::create(&dest, |w| {
+            w.write_all(b"x").map_err(|source| OutputError::Io {
+                path: dest.clone(),
+                action: "writing",
+                source,
+            })
+        })
+        .unwrap();
+        let temp = staged
+            .temp
+            .path()
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        assert_eq!(staged_for(&temp), Some("frame_000003.png"), "{temp}");
+        for other in [
+            "frame_000003.png",
+            ".frame.png.tmp",
+            ".a.b.c.tmp",
+            "..abcdef.tmp",
+        ] {
+            assert_eq!(staged_for(other), None, "{other}");
+        }
+    }
 }

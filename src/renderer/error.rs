@@ -22,6 +22,18 @@ pub enum ResidentError {
     /// A level-of-detail node could not be read.
     #[error(transparent)]
     Read(#[from] crate::prepare::PrepareError),
+    /// The scan file read node by node changed on disk after it was opened.
+    #[error(
+        "{}: the file changed while it was being read ({what}): no frame is drawn from a \
+         changed scan; rerun to start from the file as it is now",
+        path.display()
+    )]
+    ScanChanged {
+        /// The file.
+        path: std::path::PathBuf,
+        /// What differs from when it was opened.
+        what: String,
+    },
     /// This build has no rasterizer.
     #[error("this build has no GPU rasterizer (feature `gpu`); use --renderer raytrace")]
     NoRasterizer,

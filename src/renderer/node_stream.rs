@@ -45,10 +45,58 @@ pub struct NodeRules {
     pub budget: u64,
 }
 
+/// What identifies a file's content for a reader that opens it again for every node: its
+/// length, modification time and (Unix) inode. A file truncated, rewritten or replaced by a
+/// rename differs in one of them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct FileStamp {
+    len: u64,
+    modified: Option<std::time::SystemTime>,
+    inode: u64,
+}
+
+impl FileStamp {
+    fn of(path: &Path) -> Result<Self, ResidentError> {
+        let meta = std::fs::metadata(path).map_err(|e| ResidentError::ScanChanged {
+            path: path.to_path_buf(),
+            what: format!("it can no longer be read: {e}"),
+        })?;
+        #[cfg(unix)]
+        let inode = std::os::unix::fs::MetadataExt::ino(&meta);
+        #[cfg(not(unix))]
+        let inode = 0;
+        Ok(FileStamp {
+            len: meta.len(),
+            modified: meta.modified().ok(),
+            inode,
+        })
+    }
+
+    /// An error naming `path` when it no longer has this stamp.
+    fn check(&self, path: &Path) -> Result<(), ResidentError> {
+        let now = FileStamp::of(path)?;
+        let what = if now.len != self.len {
+            format!("{} bytes when opened, {} now", self.len, now.len)
+        } else if now.inode != self.inode {
+            "another file now has its name".to_string()
+        } else if now.modified != self.modified {
+            "modified since it was opened".to_string()
+        } else {
+            return Ok(());
+        };
+        Err(ResidentError::ScanChanged {
+            path: path.to_path_buf(),
+            what,
+        })
+    }
+}
+
 /// The rasterizer, the file's octree and the nodes on the GPU; see the module docs.
 pub struct NodeStream {
     rasterizer: Rasterizer,
     path: PathBuf,
+    /// The file as it was when its octree was read: every frame checks it still is.
+    stamp: FileStamp,
     octree: Octree,
     options: PrepareOptions,
     radii: NodeRadii,
@@ -73,10 +121,13 @@ impl NodeStream {
         rules: NodeRules,
         settings: &RenderSettings,
     ) -> Result<Self, ResidentError> {
+        let stamp = FileStamp::of(path)?;
         let octree = io::read_octree(path).map_err(PrepareError::from)?;
+        stamp.check(path)?;
         Ok(NodeStream {
             rasterizer,
             path: path.to_path_buf(),
+            stamp,
             octree,
             options: *options,
             radii: rules.radii,
@@ -140,6 +191,9 @@ impl NodeStream {
         let threshold =
             std::f64::consts::TAU / f64::from(settings.image.width.max(1)) * self.pixels;
         let selection = lod::select(&self.octree, camera, threshold);
+        // The octree and the nodes on the GPU are the file as it was opened: a frame drawn
+        // from them and nodes of a changed file would be a wrong frame, not an error.
+        self.stamp.check(&self.path)?;
         // Nodes held are marked used first, so that the new ones, held once drawn, evict
         // older frames' nodes rather than this one's.
         let mut fresh: Vec<(NodeId, UploadedScene)> = Vec::new();
@@ -159,6 +213,9 @@ impl NodeStream {
                     .upload_colored(&scene, &self.upload, self.color)?;
                 fresh.push((id, node));
             }
+        }
+        if !fresh.is_empty() {
+            self.stamp.check(&self.path)?;
         }
         let uploaded = fresh.len();
         let rendered = {

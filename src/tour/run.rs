@@ -216,6 +216,41 @@ pub fn frames_to_render(options: &RunOptions, range: Range<usize>) -> (Vec<usize
     range.partition(|&i| options.overwrite || !options.frame_path(i).exists())
 }
 
+/// How old a stale temporary `tour.json` must be before it is removed: every shard of a tour
+/// writes the manifest when it starts (in milliseconds), so a younger one may be another
+/// shard's write in progress.
+const STALE_MANIFEST_AGE: Duration = Duration::from_secs(60);
+
+/// Removes the temporary files that killed runs (`kill -9`, a node lost) left in the tour's
+/// folder: those of the frames `todo`, which no other process renders, and those of
+/// `tour.json` older than [`STALE_MANIFEST_AGE`]. Returns how many were removed; a folder
+/// that cannot be listed removes none (writing the frames then reports it).
+pub fn remove_stale_temps(options: &RunOptions, todo: &[usize]) -> usize {
+    let frames: std::collections::HashSet<String> =
+        todo.iter().map(|&i| options.format.file_name(i)).collect();
+    let Ok(entries) = std::fs::read_dir(&options.dir) else {
+        return 0;
+    };
+    let stale = |entry: &std::fs::DirEntry| {
+        let name = entry.file_name();
+        let Some(dest) = name.to_str().and_then(output::atomic::staged_for) else {
+            return false;
+        };
+        frames.contains(dest)
+            || (dest == crate::frames::MANIFEST_NAME
+                && entry
+                    .metadata()
+                    .and_then(|m| m.modified())
+                    .ok()
+                    .and_then(|t| t.elapsed().ok())
+                    .is_some_and(|age| age >= STALE_MANIFEST_AGE))
+    };
+    entries
+        .flatten()
+        .filter(|e| stale(e) && std::fs::remove_file(e.path()).is_ok())
+        .count()
+}
+
 /// Renders and writes the frames `todo` of `tour` with `renderer` (the scene kept resident, or
 /// a level-of-detail node stream); `progress` counts frames and shows the frame rate;
 /// `on_frame` hears each frame written.

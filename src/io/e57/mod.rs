@@ -55,10 +55,78 @@ fn open_reader(
             ),
         ));
     }
+    // The XML section is read whole into memory: its length must fit in the file first.
+    if header.phys_xml_offset.saturating_add(header.xml_length) > len {
+        return Err(corrupt(
+            shown,
+            format!(
+                "the XML section ({} bytes at byte {}) runs past the end of the {len}-byte file",
+                header.xml_length, header.phys_xml_offset
+            ),
+        ));
+    }
     f.rewind().map_err(|e| LoadError::from_io(shown, e))?;
-    guarded(shown, "reading the XML section", || {
+    let reader = guarded(shown, "reading the XML section", || {
         e57::E57Reader::new(BufReader::new(f)).map_err(|e| corrupt(shown, e))
-    })
+    })?;
+    check_sections(shown, file, &reader, len)?;
+    Ok(reader)
+}
+
+/// Checks that each scan's points section (its 32-byte header at the scan's `fileOffset`)
+/// lies inside the file: the `e57` crate reads packets without looking at the section's
+/// length, so a length past the end would otherwise go unnoticed.
+fn check_sections<T: Read + Seek>(
+    shown: &Path,
+    file: &Path,
+    reader: &e57::E57Reader<T>,
+    len: u64,
+) -> Result<(), LoadError> {
+    let page_size = reader.header().page_size;
+    let mut f = std::fs::File::open(file).map_err(|e| LoadError::from_io(shown, e))?;
+    for (index, pc) in reader.pointclouds().iter().enumerate() {
+        let header = read_logical(&mut f, page_size, pc.file_offset, 32)
+            .map_err(|e| LoadError::from_io(shown, e))?;
+        let field = |at: usize| u64::from_le_bytes(header[at..at + 8].try_into().unwrap());
+        let (section_length, data_offset) = (field(8), field(16));
+        if pc.file_offset.saturating_add(section_length) > len || data_offset >= len {
+            return Err(corrupt(
+                shown,
+                format!(
+                    "the points section of scan {index} ({section_length} bytes at byte {}, \
+                     data at byte {data_offset}) runs past the end of the {len}-byte file",
+                    pc.file_offset
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// `n` bytes of an E57 file's logical content from physical byte `at` on, skipping the
+/// checksum that ends each page of `page_size` bytes.
+fn read_logical(
+    f: &mut std::fs::File,
+    page_size: u64,
+    mut at: u64,
+    n: usize,
+) -> std::io::Result<Vec<u8>> {
+    const CHECKSUM: u64 = 4;
+    let mut out = vec![0u8; n];
+    let mut filled = 0;
+    while filled < n {
+        let data_end = (at / page_size) * page_size + page_size.saturating_sub(CHECKSUM);
+        if at >= data_end {
+            at = data_end + CHECKSUM;
+            continue;
+        }
+        let take = ((data_end - at) as usize).min(n - filled);
+        f.seek(std::io::SeekFrom::Start(at))?;
+        f.read_exact(&mut out[filled..filled + take])?;
+        filled += take;
+        at += take as u64;
+    }
+    Ok(out)
 }
 
 /// The scans' and images' facts.
