@@ -9,11 +9,13 @@ use clap::Args;
 
 use crate::io::Up;
 use crate::io::e57::ScanSelection;
-use crate::prepare::{EyeHeight, LengthScale, PrepareOptions, RadiusChoice, Units, prepare};
+use crate::prepare::{
+    EyeHeight, LengthScale, LodChoice, PrepareOptions, RadiusChoice, Units, prepare,
+};
 use crate::projection::Stereo;
 use crate::render::{ColorMode, Shading};
 use crate::web::serve::live::LiveScale;
-use crate::web::serve::{LiveOptions, LiveScan, LiveServer, StreamOptions};
+use crate::web::serve::{LiveOptions, LiveScan, LiveServer, ServedLod, StreamOptions};
 
 use super::{parse, progress, view};
 
@@ -66,12 +68,47 @@ pub struct ServeArgs {
     /// most) when frames render slower than 10 a second, `1` keeps every frame at --width.
     #[arg(long, default_value = "auto", value_name = "auto|1")]
     pub live_scale: LiveScale,
+    /// Level of detail for COPC files (.copc.laz, from `omnicloud index`): `on` reads, per
+    /// render, the octree nodes whose point spacing seen from the camera is a pixel or more
+    /// and keeps them on the GPU for the next renders, a number of pixels sets that
+    /// threshold, `off` keeps every point resident.
+    #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
+    pub lod: LodChoice,
+    /// Level of detail: bytes of nodes kept on the GPU between renders, e.g. 2G [default: 80%
+    /// of the available memory, at most 2 GiB].
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
     /// Also open the page in the default browser.
     #[arg(long)]
     pub open: bool,
     /// No progress bar.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// How a COPC file is served through its level of detail; `None` with `--lod off`, another
+/// format, or adaptive radii (said why).
+fn served_lod(
+    args: &ServeArgs,
+    prepared: &crate::prepare::Prepared,
+    radius: Option<RadiusChoice>,
+    say: &impl Fn(String),
+) -> Option<ServedLod> {
+    let LodChoice::Pixels(pixels) = args.lod else {
+        return None;
+    };
+    let info = &prepared.report.info;
+    if !crate::io::is_copc(info) {
+        return None;
+    }
+    let radii = super::tour::node_radii(&args.file, info, radius, &prepared.scene, say)?;
+    Some(ServedLod {
+        path: args.file.clone(),
+        up: args.up,
+        radii,
+        pixels,
+        budget: super::tour::node_cache_budget(args.max_memory),
+    })
 }
 
 /// A camera height: finite, from 0 to 1000 m.
@@ -120,7 +157,18 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         shading: args.shading,
         map_size: args.map_size,
     };
-    let scan = LiveScan::new(&args.file, prepared.scene, live)?;
+    let lod = served_lod(args, &prepared, options.radius, &say);
+    let mut scan = LiveScan::new(&args.file, prepared.scene, live)?;
+    if let Some(lod) = lod {
+        say(format!(
+            "{}: level of detail ({} px): each render reads the octree nodes it needs into a \
+             cache of {} on the GPU",
+            args.file.display(),
+            lod.pixels,
+            crate::memory::format_size(lod.budget)
+        ));
+        scan = scan.with_lod(lod);
+    }
     let server = LiveServer::bind(&args.host, args.port, scan)?.with_stream(StreamOptions {
         scale: args.live_scale,
         ..StreamOptions::default()

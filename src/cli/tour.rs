@@ -429,24 +429,11 @@ fn node_stream(
     if args.draw.renderer != RendererKind::Raster || !crate::io::is_copc(info) {
         return Ok(None);
     }
-    let radii = match (args.view.radius, &planned.scene.radii) {
-        (None, Radii::PerPoint(_)) if info.attributes.radius => NodeRadii::File,
-        (Some(RadiusChoice::Fixed(r)), _) => NodeRadii::Base(r),
-        (Some(RadiusChoice::Auto), Radii::Uniform(r)) => NodeRadii::Base(*r),
-        _ => {
-            say(format!(
-                "{}: level of detail off: its adaptive radii are measured on the whole scan \
-                 (index it with `omnicloud index`, which stores them, or give --radius \
-                 LENGTH|auto)",
-                args.file.display()
-            ));
-            return Ok(None);
-        }
+    let Some(radii) = node_radii(&args.file, info, args.view.radius, &planned.scene, say) else {
+        return Ok(None);
     };
     let color = crate::render::ColorRule::for_scene(&planned.scene, settings.color)?;
-    let budget = args.max_memory.unwrap_or_else(|| {
-        memory::default_cap().map_or(DEFAULT_NODE_CACHE, |c| c.min(DEFAULT_NODE_CACHE))
-    });
+    let budget = node_cache_budget(args.max_memory);
     let options = crate::prepare::PrepareOptions {
         origin: Some(planned.origin),
         ..request.prepare
@@ -466,6 +453,40 @@ fn node_stream(
     )
     .with_context(|| format!("reading the octree of {}", args.file.display()))?;
     Ok(Some(stream))
+}
+
+/// How the nodes of the COPC file `path` are sized when drawn alone, as `scene` (read
+/// whole, with `radius` as given) was: the radii the file stores, or one radius; `None`, after
+/// saying why, for adaptive radii, which are measured on the whole scan.
+pub(super) fn node_radii(
+    path: &std::path::Path,
+    info: &crate::io::FileInfo,
+    radius: Option<RadiusChoice>,
+    scene: &crate::Scene,
+    say: &impl Fn(String),
+) -> Option<NodeRadii> {
+    match (radius, &scene.radii) {
+        (None, Radii::PerPoint(_)) if info.attributes.radius => Some(NodeRadii::File),
+        (Some(RadiusChoice::Fixed(r)), _) => Some(NodeRadii::Base(r)),
+        (Some(RadiusChoice::Auto), Radii::Uniform(r)) => Some(NodeRadii::Base(*r)),
+        _ => {
+            say(format!(
+                "{}: level of detail off: its adaptive radii are measured on the whole scan \
+                 (index it with `omnicloud index`, which stores them, or give --radius \
+                 LENGTH|auto)",
+                path.display()
+            ));
+            None
+        }
+    }
+}
+
+/// Bytes of level-of-detail nodes kept on the GPU: `max_memory` when given, else 80 % of the
+/// available memory, at most [`DEFAULT_NODE_CACHE`].
+pub(super) fn node_cache_budget(max_memory: Option<u64>) -> u64 {
+    max_memory.unwrap_or_else(|| {
+        memory::default_cap().map_or(DEFAULT_NODE_CACHE, |c| c.min(DEFAULT_NODE_CACHE))
+    })
 }
 
 /// Refuses `--video` before anything is loaded or rendered when the frames could not be

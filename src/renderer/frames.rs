@@ -3,6 +3,7 @@
 
 use indicatif::ProgressBar;
 
+use super::anchor::Anchor;
 use super::error::ResidentError;
 use crate::Rendered;
 use crate::render::RenderSettings;
@@ -21,6 +22,25 @@ pub trait DrawsFrames {
 
     /// Hands a rendered frame back once written, for the next read-back to reuse its memory.
     fn recycle_frame(&self, rendered: Rendered);
+
+    /// Where the rasterizer's points are measured from.
+    fn anchor(&self) -> Anchor;
+
+    /// Measures the points from `anchor` for the frames to come (uploading them again, or
+    /// dropping the nodes held, when it moves).
+    ///
+    /// # Errors
+    /// The upload failed.
+    fn place(&mut self, anchor: Anchor) -> Result<(), ResidentError>;
+
+    /// Frees what is on the GPU, after a failure: the next `place` or frame uploads again.
+    fn release(&mut self);
+
+    /// The device that renders: the GPU adapter's name, or the CPU.
+    fn device(&self) -> &str;
+
+    /// Widest panorama (pixels per eye) it can render; `None` when no device limits it.
+    fn max_image_width(&self) -> Option<u32>;
 }
 
 impl DrawsFrames for super::Resident<'_> {
@@ -34,6 +54,26 @@ impl DrawsFrames for super::Resident<'_> {
 
     fn recycle_frame(&self, rendered: Rendered) {
         self.recycle(rendered);
+    }
+
+    fn anchor(&self) -> Anchor {
+        super::Resident::anchor(self)
+    }
+
+    fn place(&mut self, anchor: Anchor) -> Result<(), ResidentError> {
+        super::Resident::place(self, anchor)
+    }
+
+    fn release(&mut self) {
+        super::Resident::release(self);
+    }
+
+    fn device(&self) -> &str {
+        super::Resident::device(self)
+    }
+
+    fn max_image_width(&self) -> Option<u32> {
+        super::Resident::max_image_width(self)
     }
 }
 
@@ -49,5 +89,26 @@ impl DrawsFrames for super::NodeStream {
 
     fn recycle_frame(&self, rendered: Rendered) {
         self.rasterizer().recycle(rendered);
+    }
+
+    fn anchor(&self) -> Anchor {
+        super::NodeStream::anchor(self)
+    }
+
+    fn place(&mut self, anchor: Anchor) -> Result<(), ResidentError> {
+        super::NodeStream::place(self, anchor);
+        Ok(())
+    }
+
+    fn release(&mut self) {
+        super::NodeStream::release(self);
+    }
+
+    fn device(&self) -> &str {
+        self.rasterizer().adapter_name()
+    }
+
+    fn max_image_width(&self) -> Option<u32> {
+        Some(self.rasterizer().max_image_width())
     }
 }

@@ -2,11 +2,16 @@
 //! the octree nodes its camera needs (the rule `render` uses, [`lod::select`]), draws those
 //! already on the GPU and uploads the others once into a [`NodeCache`] bounded in bytes, which
 //! evicts the least recently used. Host memory holds one node at a time, not the scan.
+//!
+//! The nodes sit on the GPU relative to an [`Anchor`] (the local zero for a tour; the camera
+//! for `serve`, as a resident scene): placing them at another anchor empties the cache, and
+//! the next frame reads its nodes again.
 
 use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
 
+use super::anchor::Anchor;
 use super::error::ResidentError;
 use crate::Rendered;
 use crate::io::{self, NodeKey, Octree};
@@ -102,6 +107,7 @@ pub struct NodeStream {
     radii: NodeRadii,
     color: ColorRule,
     upload: RenderSettings,
+    anchor: Anchor,
     pixels: f64,
     cache: NodeCache<NodeId, UploadedScene>,
     last: FrameNodes,
@@ -137,6 +143,7 @@ impl NodeStream {
                 camera: Camera::new(glam::DVec3::ZERO, 0.0),
                 ..*settings
             },
+            anchor: Anchor::SceneZero,
             pixels: rules.pixels,
             cache: NodeCache::new(rules.budget),
             last: FrameNodes::default(),
@@ -146,6 +153,26 @@ impl NodeStream {
     /// The rasterizer.
     pub fn rasterizer(&self) -> &Rasterizer {
         &self.rasterizer
+    }
+
+    /// Where the nodes on the GPU are measured from.
+    pub fn anchor(&self) -> Anchor {
+        self.anchor
+    }
+
+    /// Measures the nodes from `anchor` for the frames to come: at another position than
+    /// now, the nodes held are dropped and the next frame reads and uploads its own again.
+    pub fn place(&mut self, anchor: Anchor) {
+        if anchor.position() != self.anchor.position() {
+            self.release();
+        }
+        self.anchor = anchor;
+        self.upload.camera = Camera::new(anchor.position(), 0.0);
+    }
+
+    /// Drops every node held on the GPU (the next frame reads its own again).
+    pub fn release(&mut self) {
+        self.cache.clear();
     }
 
     /// What the cache did so far.

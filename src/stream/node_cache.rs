@@ -99,6 +99,12 @@ impl<K: Eq + Hash + Copy, V> NodeCache<K, V> {
         }
     }
 
+    /// Drops every node held (their counts stay).
+    pub fn clear(&mut self) {
+        self.entries.clear();
+        self.used = 0;
+    }
+
     /// Holds `value` of `bytes` under `key` (replacing an older one), evicting the least
     /// recently used nodes until it fits. A value larger than the whole budget is not held
     /// and comes back as `Err` for the caller to use once.
@@ -167,6 +173,9 @@ mod tests {
         assert_eq!(cache.insert(2, vec![2; 11], 11), Err(vec![2; 11]));
         assert!(cache.contains(&1));
         assert_eq!((cache.used(), cache.counts().refused), (5, 1));
+        cache.clear();
+        assert!(cache.is_empty() && !cache.contains(&1));
+        assert_eq!((cache.used(), cache.counts().inserted), (0, 1));
     }
 
     #[test]

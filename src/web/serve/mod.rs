@@ -20,7 +20,7 @@ pub use render_thread::{
     LiveFrame, RawFrame, RenderFailure, RenderQueue, RenderThread, live_settings,
 };
 pub use request::{CameraLimits, RenderRequest};
-pub use scan::{LiveOptions, LiveScan, ScanInfo};
+pub use scan::{LiveOptions, LiveScan, ScanInfo, ServedLod};
 pub use server::LiveServer;
 
 /// Why a scan cannot be served.

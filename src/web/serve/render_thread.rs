@@ -1,5 +1,7 @@
 //! The render thread: it owns the renderer chosen at run time with the scan resident
-//! ([`Resident`], created on the thread, so nothing GPU-side crosses threads). HTTP workers hand
+//! ([`Resident`]), or for a COPC scan its level-of-detail node stream ([`NodeStream`], whose
+//! node cache lasts across requests), created on the thread, so nothing GPU-side crosses
+//! threads. HTTP workers hand
 //! it requests through a [`LatestQueue`] and wait for their own answer on a channel (a PNG);
 //! the live stream's connections queue theirs through a [`RenderQueue`] and take the raw
 //! pair, to encode it themselves while the next one renders.
@@ -19,14 +21,15 @@ use glam::{DVec2, DVec3};
 use indicatif::ProgressBar;
 
 use crate::frame::Frame;
+use crate::prepare::PrepareOptions;
 use crate::projection::{Camera, Image, OdsOffset, Stereo};
-use crate::render::{Imposter, Proxy, RenderSettings, RendererKind};
-use crate::renderer::{Anchor, Resident};
+use crate::render::{ColorRule, Imposter, Proxy, RenderSettings, RendererKind};
+use crate::renderer::{Anchor, DrawsFrames, NodeRules, NodeStream, Resident};
 
 use super::ServeError;
 use super::queue::LatestQueue;
 use super::request::RenderRequest;
-use super::scan::{LiveScan, png_bytes};
+use super::scan::{LiveScan, ServedLod, png_bytes};
 
 /// A finished render.
 #[derive(Debug, Clone)]
@@ -210,15 +213,11 @@ impl RenderThread {
                     let scan: &LiveScan = &scan;
                     let first = RenderRequest::default_at(&scan.limits);
                     let camera = DVec3::from_array(scan.info.camera) - scan.scene.origin;
-                    let resident = match Resident::anchored(
-                        &scan.scene,
-                        kind,
-                        &live_settings(scan, camera, &first),
-                        Anchor::Camera(camera),
-                    ) {
+                    let settings = live_settings(scan, camera, &first);
+                    let resident = match drawer(scan, kind, &settings, camera) {
                         Ok(r) => r,
                         Err(e) => {
-                            let _ = ready_tx.send(Err(ServeError::Resident(e)));
+                            let _ = ready_tx.send(Err(e));
                             return;
                         }
                     };
@@ -326,8 +325,8 @@ impl Drop for RenderThread {
 /// What the render thread holds between requests.
 struct Renderer<'a> {
     scan: &'a LiveScan,
-    /// The renderer with the scan resident, placed for the last camera.
-    resident: Resident<'a>,
+    /// The renderer with the scan resident or its node stream, placed for the last camera.
+    resident: Box<dyn DrawsFrames + 'a>,
     /// The XY and height above the ground last asked for and their camera (local frame),
     /// while the resident is placed there.
     asked: Option<(DVec2, Option<f64>, DVec3)>,
@@ -408,11 +407,11 @@ impl Renderer<'_> {
         self.asked = Some((request.xy, request.height, camera));
         let rendered = self
             .resident
-            .render(&settings, &ProgressBar::hidden())
+            .render_frame(&settings, &ProgressBar::hidden())
             .map_err(|e| failed(&e))?;
         let mut frame = self.spent.take();
         rendered.top_bottom_into(&mut frame);
-        self.resident.recycle(rendered);
+        self.resident.recycle_frame(rendered);
         Ok(RawFrame {
             frame,
             camera: scan.scene.origin + camera,
@@ -420,6 +419,55 @@ impl Renderer<'_> {
             elapsed: started.elapsed(),
         })
     }
+}
+
+/// The scan's renderer on this thread, placed at `camera` (local frame) under `settings`:
+/// its level-of-detail node stream when it has one and `kind` is the rasterizer, else every
+/// point resident.
+fn drawer<'a>(
+    scan: &'a LiveScan,
+    kind: RendererKind,
+    settings: &RenderSettings,
+    camera: DVec3,
+) -> Result<Box<dyn DrawsFrames + 'a>, ServeError> {
+    match (&scan.lod, kind) {
+        (Some(lod), RendererKind::Raster) => {
+            Ok(Box::new(node_stream(scan, lod, settings, camera)?))
+        }
+        _ => Ok(Box::new(Resident::anchored(
+            &scan.scene,
+            kind,
+            settings,
+            Anchor::Camera(camera),
+        )?)),
+    }
+}
+
+/// The node stream of `lod`, coloured as the whole scan is and around its origin, so that a
+/// render through every node is the resident scan's.
+fn node_stream(
+    scan: &LiveScan,
+    lod: &ServedLod,
+    settings: &RenderSettings,
+    camera: DVec3,
+) -> Result<NodeStream, ServeError> {
+    let color = ColorRule::for_scene(&scan.scene, settings.color)?;
+    let rasterizer =
+        crate::raster::Rasterizer::new().map_err(crate::renderer::ResidentError::from)?;
+    let options = PrepareOptions {
+        origin: Some(scan.scene.origin),
+        up: lod.up,
+        ..PrepareOptions::default()
+    };
+    let rules = NodeRules {
+        radii: lod.radii,
+        color,
+        pixels: lod.pixels,
+        budget: lod.budget,
+    };
+    let mut stream = NodeStream::new(rasterizer, &lod.path, &options, rules, settings)?;
+    stream.place(Anchor::Camera(camera));
+    Ok(stream)
 }
 
 /// The settings a live render uses: an ODS pair at the served width from `camera` (local

@@ -1,13 +1,15 @@
 //! A prepared scan made ready to serve: its map, the box a camera may stand in, and the
 //! camera height above the ground at any XY.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DVec2, DVec3};
 use serde::Serialize;
 
 use crate::frame::Frame;
+use crate::io::Up;
 use crate::output::png::encode_png;
+use crate::prepare::lod::NodeRadii;
 use crate::prepare::placement::{EYE_HEIGHT, ground_camera_position};
 use crate::projection::{PoleMerge, Stereo};
 use crate::render::{ColorMode, Shading};
@@ -51,6 +53,24 @@ impl Default for LiveOptions {
     }
 }
 
+/// A COPC scan drawn through its level of detail: each render reads the octree nodes its
+/// camera needs into a node cache on the GPU kept across requests
+/// ([`NodeStream`](crate::renderer::NodeStream)), rather than holding every point there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ServedLod {
+    /// The COPC file.
+    pub path: PathBuf,
+    /// Up axis it was read with.
+    pub up: Up,
+    /// How the nodes' spheres are sized.
+    pub radii: NodeRadii,
+    /// A node is fine enough when its spacing spans less than this many pixels (0 reads
+    /// every node).
+    pub pixels: f64,
+    /// Bytes of nodes kept on the GPU between renders.
+    pub budget: u64,
+}
+
 /// A scan in memory, in the local frame preparation gave it, with its map.
 pub struct LiveScan {
     /// The scene; its origin is the camera preparation placed (DESIGN §1).
@@ -65,6 +85,8 @@ pub struct LiveScan {
     pub map_png: Vec<u8>,
     /// What `/api/scan` answers.
     pub info: ScanInfo,
+    /// Renders through the level of detail (rasterizer only); `None`: every point resident.
+    pub lod: Option<ServedLod>,
     /// Width of the scan's XY bounds (the ground search's largest radius), metres.
     extent: f32,
 }
@@ -146,7 +168,16 @@ impl LiveScan {
             grid,
             map_png,
             info,
+            lod: None,
         })
+    }
+
+    /// This scan rendered through its level of detail as `lod` says (by the rasterizer;
+    /// the ray tracer keeps every point).
+    #[must_use]
+    pub fn with_lod(mut self, lod: ServedLod) -> Self {
+        self.lod = Some(lod);
+        self
     }
 
     /// The camera (file coordinates) [`LiveOptions::height`] above the ground at file `xy`:
