@@ -4,6 +4,7 @@
 use glam::DVec2;
 use serde::Deserialize;
 
+use crate::output::xmp::heading_from_yaw;
 use crate::projection::Stereo;
 
 use super::super::request::{CameraLimits, RenderRequest, within};
@@ -92,7 +93,7 @@ pub fn parse_pose(text: &str, limits: &PoseLimits) -> Result<Pose, PoseError> {
         Some(z) => Some(within("z", finite("z", z)?, limits.z.0, limits.z.1).map_err(outside)?),
         None => None,
     };
-    let yaw = finite("yaw", m.yaw)?.rem_euclid(360.0);
+    let yaw = heading_from_yaw(finite("yaw", m.yaw)?);
     let pitch = finite("pitch", m.pitch.unwrap_or(0.0))?;
     if pitch.abs() > 90.0 {
         return Err(PoseError::Invalid(format!(
@@ -155,6 +156,8 @@ mod tests {
             "3.048 m in feet"
         );
         assert_eq!((p.yaw, p.pitch), (270.0, 10.0));
+        let tiny = parse_pose(r#"{"seq": 2, "x": 200, "y": 300, "yaw": -1e-20}"#, &LIMITS);
+        assert_eq!(tiny.unwrap().yaw, 0.0, "yaw stays in [0, 360)");
         let d = parse_pose(r#"{"seq": 1, "x": 200, "y": 300, "yaw": 0}"#, &LIMITS).unwrap();
         assert_eq!((d.request.z, d.request.height), (None, None));
         assert_eq!((d.request.ipd, d.pitch), (Stereo::DEFAULT_IPD, 0.0));
