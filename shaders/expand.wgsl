@@ -5,7 +5,7 @@
 // sphere, and on devices with 64-bit atomics splat_key and splat, whose entry points splat
 // small spheres and pass the others to `expand_raycast_bounds`.
 
-@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
 @group(0) @binding(2) var<storage, read_write> vertices: array<ExpandedVertex>;
 @group(0) @binding(3) var<storage, read_write> draw_args: DrawArgs;

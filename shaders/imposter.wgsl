@@ -3,7 +3,7 @@
 // camera, equirect, pole_merge, ods, depth_map, projection, params, chunk, shading, sphere,
 // shade_hit.
 
-@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(1) var<storage, read> points: array<GpuPoint>;
 @group(0) @binding(2) var<storage, read> colors: array<u32>;
 

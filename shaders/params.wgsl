@@ -1,5 +1,8 @@
-// Per-batch uniform shared by the pipelines; laid out as `src/raster/params.rs` (a test there
-// checks the offsets). Mode codes are constants of the generated prelude.
+// Per-batch parameters shared by the pipelines, bound as a read-only storage buffer: lavapipe
+// compiles a pipeline variant per set of uniform-buffer values that steer branches and keeps
+// them all, which an ODS pair (its eyes' signs alternate every dispatch) made grow without end.
+// Laid out as `src/raster/params.rs` (a test there checks the offsets). Mode codes are
+// constants of the generated prelude.
 
 struct Params {
     forward: vec3<f32>,
@@ -55,7 +58,7 @@ struct Params {
 // Pipeline-overridable copies of the mode fields of Params (src/raster/specialisation.rs).
 // A pipeline compiled for one mode has the other modes' code folded away, which software
 // rasterizers need: llvmpipe runs every branch a fragment could take at the cost of the
-// largest. SPEC_ANY, the default (the probe's), reads the uniform instead.
+// largest. SPEC_ANY, the default (the probe's), reads the buffer instead.
 override SPEC_PROJECTION: u32 = SPEC_ANY;
 // SPEC_MONO or SPEC_STEREO: whether the eye sign is 0.
 override SPEC_EYES: u32 = SPEC_ANY;
@@ -67,7 +70,7 @@ override SPEC_PROXY: u32 = SPEC_ANY;
 override SPEC_IMPOSTER: u32 = SPEC_ANY;
 override SPEC_SHADING: u32 = SPEC_ANY;
 
-// `fixed` unless it is SPEC_ANY, else the uniform's `value`.
+// `fixed` unless it is SPEC_ANY, else the buffer's `value`.
 fn fixed_or(fixed: u32, value: u32) -> u32 {
     return select(fixed, value, fixed == SPEC_ANY);
 }

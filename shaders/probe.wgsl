@@ -27,7 +27,7 @@ struct ProbeItem {
 
 const PROBE_SLOTS: u32 = 15u;
 
-@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(1) var<storage, read> probe_items: array<ProbeItem>;
 // Per item, PROBE_SLOTS slots: (lam, phi, ok, merge(phi_in)), (ray origin, 0), (ray dir, 0),
 // (shaded colour, intersection t), (bounds lo, bounds hi), (bounds special, rect count, image

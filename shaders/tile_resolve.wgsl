@@ -5,7 +5,7 @@
 // large sphere. One invocation per tile, a workgroup per square of tiles; driven by
 // src/raster/tile_resolve.rs.
 
-@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(0) var<storage, read> params: Params;
 // The eye's keys as u32 pairs (x = payload, y = !distance bits; splat_key.wgsl), read only:
 // the batch's atomics are done when this runs.
 @group(0) @binding(3) var<storage, read> resolve_keys: array<vec2<u32>>;

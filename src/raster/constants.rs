@@ -130,7 +130,7 @@ shared_constants! {
     /// `Params::eye_model`: every ray of an eye starts at its parallel camera.
     MODEL_PARALLEL: u32 = 1;
 
-    /// A pipeline constant of `params.wgsl` left open: the shader reads the uniform instead.
+    /// A pipeline constant of `params.wgsl` left open: the shader reads `Params` instead.
     SPEC_ANY: u32 = u32::MAX;
     /// `SPEC_EYES`: every view of the pipeline is mono (eye sign 0).
     SPEC_MONO: u32 = 0;
@@ -159,7 +159,7 @@ shared_constants! {
 
 /// Near and far distances (metres) of the logarithmic depth `log(t/near)/log(far/near)`:
 /// a Depth32Float then orders hits to about 2e-6 relative distance over 13 decades. They
-/// reach the shaders through `Params` (as uniforms the division and logarithm stay run-time
+/// reach the shaders through `Params` (as run-time values the division and logarithm stay run-time
 /// operations, exactly as the fragment stage has always evaluated them).
 pub const DEPTH_NEAR: f32 = 1e-6;
 /// See [`DEPTH_NEAR`].

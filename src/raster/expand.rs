@@ -55,7 +55,7 @@ pub fn source(splat: bool) -> String {
 
 /// The buffers one expand dispatch binds.
 pub struct ExpandBuffers<'a> {
-    /// `Params` uniform.
+    /// `Params` buffer.
     pub params: &'a wgpu::Buffer,
     /// The chunk's points.
     pub points: &'a wgpu::Buffer,
@@ -117,11 +117,11 @@ impl ExpandPipeline {
         pairs: bool,
     ) -> Self {
         debug_assert!(keyed || !pairs, "only the keyed path splats pairs");
-        use wgpu::BufferBindingType::{Storage, Uniform};
+        use wgpu::BufferBindingType::Storage;
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let rw = Storage { read_only: false };
         let mut entries = vec![
-            entry(0, Uniform),
+            entry(0, Storage { read_only: true }),
             entry(1, Storage { read_only: true }),
             entry(2, rw),
             entry(3, rw),

@@ -59,7 +59,7 @@ pub struct FrameBuffers {
     /// On the keyed path, the points the splat leaves to draw and the dispatch that draws
     /// them (see [`super::expand::KeyedBuffers`]).
     pub listed: Option<(wgpu::Buffer, wgpu::Buffer)>,
-    /// `Params` uniform.
+    /// `Params` buffer.
     pub params: wgpu::Buffer,
     /// Expanded proxy vertices.
     pub vertices: wgpu::Buffer,
@@ -102,7 +102,7 @@ impl FrameBuffers {
                 shape,
                 images,
                 listed,
-                params: make("params", size_of::<Params>(), U::UNIFORM | U::COPY_DST),
+                params: make("params", size_of::<Params>(), U::STORAGE | U::COPY_DST),
                 vertices: make(
                     "vertices",
                     shape.vertex_capacity as usize * size_of::<ExpandedVertex>(),

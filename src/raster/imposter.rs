@@ -90,7 +90,7 @@ impl ImposterPipeline {
         ImposterPipeline { layout, pipeline }
     }
 
-    /// Binds the `Params` uniform, a chunk's points and colours, and for a keyed pipeline the
+    /// Binds the `Params` buffer, a chunk's points and colours, and for a keyed pipeline the
     /// keys.
     pub fn bind(
         &self,

@@ -1,4 +1,4 @@
-//! The uniform block of `shaders/params.wgsl`, filled from a [`View`] and the settings.
+//! The per-batch parameters of `shaders/params.wgsl` (a read-only storage buffer), filled from a [`View`] and the settings.
 
 use std::f64::consts::{PI, TAU};
 
@@ -52,7 +52,7 @@ impl From<PoleMerge> for GpuPoleMerge {
     }
 }
 
-/// Mirror of WGSL `Params`, field for field (WGSL uniform layout: each `vec3` starts a
+/// Mirror of WGSL `Params`, field for field (WGSL host-shareable layout: each `vec3` starts a
 /// 16-byte slot and shares it with the scalar after it; `tests` checks the offsets against
 /// the WGSL).
 #[repr(C)]

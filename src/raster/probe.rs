@@ -169,7 +169,7 @@ impl Rasterizer {
             let params_buf = make(
                 "probe params",
                 std::mem::size_of::<Params>() as u64,
-                U::UNIFORM | U::COPY_DST,
+                U::STORAGE | U::COPY_DST,
             );
             ctx.queue
                 .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));

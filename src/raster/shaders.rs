@@ -20,7 +20,7 @@ pub const SPHERE_BOUNDS: &str = include_str!("../../shaders/sphere_bounds.wgsl")
 pub const PROJECTION: &str = include_str!("../../shaders/projection.wgsl");
 /// `shaders/image_bounds.wgsl`: the pixel rectangles of a sphere's image.
 pub const IMAGE_BOUNDS: &str = include_str!("../../shaders/image_bounds.wgsl");
-/// `shaders/params.wgsl`: the per-batch uniform.
+/// `shaders/params.wgsl`: the per-batch parameters.
 pub const PARAMS: &str = include_str!("../../shaders/params.wgsl");
 /// `shaders/chunk.wgsl`: the point records.
 pub const CHUNK: &str = include_str!("../../shaders/chunk.wgsl");
@@ -90,23 +90,23 @@ pub fn buffer_layout(
     }
 }
 
-/// Layout entries 0 to 2 of a pipeline that reads a chunk: the `Params` uniform (seen by
+/// Layout entries 0 to 2 of a pipeline that reads a chunk: the `Params` buffer (seen by
 /// `params_stages`), the points and the colours (seen by `stages`).
 pub fn chunk_layout(
     params_stages: wgpu::ShaderStages,
     stages: wgpu::ShaderStages,
 ) -> Vec<wgpu::BindGroupLayoutEntry> {
-    use wgpu::BufferBindingType::{Storage, Uniform};
+    use wgpu::BufferBindingType::Storage;
     let read = Storage { read_only: true };
     vec![
-        buffer_layout(0, params_stages, Uniform),
+        buffer_layout(0, params_stages, read),
         buffer_layout(1, stages, read),
         buffer_layout(2, stages, read),
     ]
 }
 
 /// A bind group for [`chunk_layout`] plus `keys` at binding 3 when given: the `Params`
-/// uniform, the chunk's points and colours.
+/// buffer, the chunk's points and colours.
 pub fn bind_chunk(
     device: &wgpu::Device,
     label: &str,

@@ -44,7 +44,7 @@ impl ShadePipeline {
         ShadePipeline { layout, pipeline }
     }
 
-    /// Binds the `Params` uniform, a chunk's points and colours, and an eye's keys.
+    /// Binds the `Params` buffer, a chunk's points and colours, and an eye's keys.
     pub fn bind(
         &self,
         device: &wgpu::Device,

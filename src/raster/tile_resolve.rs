@@ -24,10 +24,10 @@ pub struct ResolvePipeline {
 impl ResolvePipeline {
     /// Compiles the pipeline from `src` (a [`source`] module).
     pub fn new(device: &wgpu::Device, src: &shaders::PipelineSource<'_>) -> Self {
-        use wgpu::BufferBindingType::{Storage, Uniform};
+        use wgpu::BufferBindingType::Storage;
         let entry = |binding, ty| shaders::buffer_layout(binding, wgpu::ShaderStages::COMPUTE, ty);
         let entries = [
-            entry(0, Uniform),
+            entry(0, Storage { read_only: true }),
             entry(3, Storage { read_only: true }),
             entry(9, Storage { read_only: false }),
         ];
@@ -36,7 +36,7 @@ impl ResolvePipeline {
         ResolvePipeline { layout, pipeline }
     }
 
-    /// Binds the `Params` uniform and an eye's keys and occlusion tiles.
+    /// Binds the `Params` buffer and an eye's keys and occlusion tiles.
     pub fn bind(
         &self,
         device: &wgpu::Device,
