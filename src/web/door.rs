@@ -1,13 +1,17 @@
 //! The front door of `view`'s and `serve`'s servers. It accepts every connection on the public
-//! port, reads its request head within a size limit and a deadline (tiny_http bounds neither),
-//! refuses what breaks them with the status that says why, and passes the rest to the HTTP
-//! server on a loopback port, one request per connection, so that every head passes here.
+//! port, reads its request head within a size limit and a deadline, refuses what breaks them
+//! with the status that says why, hands the rest to the server's workers for a reply and sends
+//! it ([`respond`](super::respond)): one request per connection, every head read here.
 
 use std::io::{ErrorKind, Read, Write};
-use std::net::{Shutdown, SocketAddr, TcpListener, TcpStream};
+use std::net::{Shutdown, TcpListener, TcpStream};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc::{self, Sender};
 use std::time::{Duration, Instant};
+
+use super::respond;
+use super::routes::Reply;
 
 /// Longest request line (method, target and version) read; a longer one gets 414.
 pub const MAX_REQUEST_LINE: usize = 8 * 1024;
@@ -53,20 +57,6 @@ impl Head {
     pub(crate) fn path(&self) -> &str {
         self.target.split('?').next().unwrap_or("")
     }
-
-    /// The head as passed to the HTTP server: its own `Connection: close` in place of the
-    /// client's, so the server answers one request and closes.
-    fn passed_on(&self) -> Vec<u8> {
-        let mut out = format!("{} {} {}\r\n", self.method, self.target, self.version);
-        for (name, value) in &self.headers {
-            if !name.eq_ignore_ascii_case("connection") && !name.eq_ignore_ascii_case("keep-alive")
-            {
-                out.push_str(&format!("{name}: {value}\r\n"));
-            }
-        }
-        out.push_str("Connection: close\r\n\r\n");
-        out.into_bytes()
-    }
 }
 
 /// Why no head was read.
@@ -85,17 +75,17 @@ const TOO_SLOW: HeadError = HeadError::Refused(408, "the request head did not ar
 const MALFORMED: HeadError = HeadError::Refused(400, "the request head is malformed");
 
 /// A function that may take a connection for itself (`serve`'s live stream) once its head is
-/// read; it hands back the connections it leaves to the HTTP server.
+/// read; it hands back the connections it leaves to the server's workers.
 pub(crate) type Take = dyn Fn(TcpStream, Head) -> Option<(TcpStream, Head)> + Send + Sync;
 
 /// Accepts on `public` until `stop`: each connection on a thread of its own (at most
-/// [`MAX_CONNECTIONS`]), its head read and checked, then offered to `take` and else passed
-/// to `http`, the HTTP server's loopback address.
+/// [`MAX_CONNECTIONS`]), its head read and checked, then offered to `take` and else sent as a
+/// [`Job`] to the workers, whose reply it sends.
 pub(crate) fn accept(
     public: &TcpListener,
-    http: SocketAddr,
     stop: &AtomicBool,
     take: Option<Arc<Take>>,
+    jobs: Sender<Job>,
 ) {
     if public.set_nonblocking(true).is_err() {
         return;
@@ -117,13 +107,13 @@ pub(crate) fn accept(
             continue;
         }
         let slot = Slot::new(open.clone());
-        let take = take.clone();
+        let (take, jobs) = (take.clone(), jobs.clone());
         // Should no thread start, the closure is dropped and with it the connection.
         let _ = std::thread::Builder::new()
             .name("omnicloud-conn".into())
             .spawn(move || {
                 let _slot = slot;
-                connection(client, http, take.as_deref());
+                connection(client, take.as_deref(), &jobs);
             });
     }
 }
@@ -166,7 +156,22 @@ fn turn_away(client: TcpStream, turning: &Arc<AtomicUsize>) {
         });
 }
 
-fn connection(client: TcpStream, http: SocketAddr, take: Option<&Take>) {
+/// A request for the server's workers: its head, and where its reply goes.
+pub(crate) struct Job {
+    /// The request.
+    pub head: Head,
+    reply: Sender<Reply>,
+}
+
+impl Job {
+    /// Hands `reply` back to the connection, which sends it.
+    pub(crate) fn answer(self, reply: Reply) {
+        // A connection that is gone no longer wants it.
+        let _ = self.reply.send(reply);
+    }
+}
+
+fn connection(client: TcpStream, take: Option<&Take>, jobs: &Sender<Job>) {
     if client.set_nonblocking(false).is_err() || client.set_write_timeout(Some(STALL)).is_err() {
         return;
     }
@@ -179,9 +184,20 @@ fn connection(client: TcpStream, http: SocketAddr, take: Option<&Take>) {
         Some(take) => take(client, head),
         None => Some((client, head)),
     };
-    if let Some((client, head)) = passed {
-        pass_through(client, &head, http);
-    }
+    let Some((client, head)) = passed else {
+        return;
+    };
+    let (reply, answer) = mpsc::channel();
+    let job = Job {
+        head: head.clone(),
+        reply,
+    };
+    let Some(reply) = jobs.send(job).ok().and_then(|()| answer.recv().ok()) else {
+        return refuse(&client, 503, "the server is stopping");
+    };
+    let _ = client.set_nodelay(true);
+    respond::send(&client, &head, reply);
+    close(&client);
 }
 
 /// Reads a request head off `client` by `deadline`, taking no byte past its blank line (what
@@ -278,16 +294,7 @@ fn parse_head(bytes: &[u8]) -> Result<Head, HeadError> {
 
 /// A whole plain-text reply that closes the connection.
 pub(crate) fn reply(status: u16, why: &str, retry: bool) -> Vec<u8> {
-    let reason = match status {
-        400 => "Bad Request",
-        403 => "Forbidden",
-        404 => "Not Found",
-        408 => "Request Timeout",
-        414 => "URI Too Long",
-        431 => "Request Header Fields Too Large",
-        503 => "Service Unavailable",
-        _ => "Error",
-    };
+    let reason = respond::reason(status);
     let body = format!("{why}\n");
     let retry = if retry { "Retry-After: 1\r\n" } else { "" };
     format!(
@@ -298,9 +305,7 @@ pub(crate) fn reply(status: u16, why: &str, retry: bool) -> Vec<u8> {
     .into_bytes()
 }
 
-/// Answers `status` and closes; what the client still sends meanwhile is read off for up
-/// to a second and a mebibyte, so that the close does not reset the connection before the
-/// reply is read.
+/// Answers `status` and closes ([`close`]).
 pub(crate) fn refuse(client: &TcpStream, status: u16, why: &str) {
     let mut client = client;
     if client
@@ -309,6 +314,14 @@ pub(crate) fn refuse(client: &TcpStream, status: u16, why: &str) {
     {
         return;
     }
+    close(client);
+}
+
+/// Ends an answered connection: closes this side for writing, then reads what the client
+/// still sends (a body, up to 1 MiB, for at most a second) until it closes, so that the
+/// kernel does not reset the connection under the answer it has not read yet.
+fn close(client: &TcpStream) {
+    let mut client = client;
     let _ = client.shutdown(Shutdown::Write);
     let until = Instant::now() + Duration::from_secs(1);
     let mut sink = [0u8; 16 * 1024];
@@ -324,59 +337,6 @@ pub(crate) fn refuse(client: &TcpStream, status: u16, why: &str) {
     }
 }
 
-/// Sends the head on to the HTTP server, then copies its reply to the client, and the
-/// request's body (if it has one) to the server, until either side closes.
-fn pass_through(client: TcpStream, head: &Head, http: SocketAddr) {
-    let Ok(mut server) = TcpStream::connect(http) else {
-        return refuse(&client, 503, "the server is not answering");
-    };
-    if server.write_all(&head.passed_on()).is_err() {
-        return;
-    }
-    let _ = server.set_nodelay(true);
-    let _ = client.set_nodelay(true);
-    let _ = client.set_read_timeout(Some(STALL));
-    let Ok(client_out) = client.try_clone() else {
-        return;
-    };
-    // Most requests have no body: then nothing more is read from the client, and no thread
-    // is spent waiting for it.
-    let body = head.header("Transfer-Encoding").is_some()
-        || head
-            .header("Content-Length")
-            .is_some_and(|n| n.trim() != "0");
-    let upstream = match (body, client.try_clone(), server.try_clone()) {
-        (true, Ok(client_in), Ok(server_out)) => {
-            Some(std::thread::spawn(move || copy(client_in, server_out)))
-        }
-        _ => None,
-    };
-    copy(server, client_out);
-    // The server closed: so does the client's side, which ends the other copy.
-    let _ = client.shutdown(Shutdown::Both);
-    if let Some(upstream) = upstream {
-        let _ = upstream.join();
-    }
-}
-
-/// Copies `from` to `to` until `from` ends or either fails, then closes `to` for writing and
-/// `from` for reading.
-fn copy(mut from: TcpStream, mut to: TcpStream) {
-    let mut buf = vec![0u8; 16 * 1024];
-    loop {
-        match from.read(&mut buf) {
-            Ok(0) | Err(_) => break,
-            Ok(n) => {
-                if to.write_all(&buf[..n]).is_err() {
-                    break;
-                }
-            }
-        }
-    }
-    let _ = to.shutdown(Shutdown::Write);
-    let _ = from.shutdown(Shutdown::Read);
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -386,15 +346,13 @@ mod tests {
     }
 
     #[test]
-    fn heads_are_parsed_and_passed_on_with_one_request_per_connection() {
+    fn heads_are_parsed_with_their_target_and_headers() {
         let raw = b"GET /frames/2?x=1 HTTP/1.1\r\nHost: 127.0.0.1:8\r\nConnection: keep-alive\r\nRange:  bytes=0-9 \r\n\r\n";
         let head = parse_head(raw).unwrap();
         assert_eq!(head.path(), "/frames/2");
         assert_eq!(head.header("range"), Some("bytes=0-9"));
-        assert_eq!(
-            String::from_utf8(head.passed_on()).unwrap(),
-            "GET /frames/2?x=1 HTTP/1.1\r\nHost: 127.0.0.1:8\r\nRange: bytes=0-9\r\nConnection: close\r\n\r\n"
-        );
+        assert_eq!(head.target, "/frames/2?x=1");
+        assert_eq!(head.header("Connection"), Some("keep-alive"));
         for bad in [
             "GET /\r\n\r\n",
             "GET / HTTP/1.1 x\r\n\r\n",

@@ -12,6 +12,7 @@ mod error;
 mod host;
 pub mod panorama;
 pub mod query;
+mod respond;
 pub mod routes;
 #[cfg(feature = "gpu")]
 pub mod serve;
@@ -21,5 +22,5 @@ pub use error::WebError;
 pub use panorama::{Panorama, PanoramaInfo, PanoramaKind};
 /// The `Range` header as the servers read it, public for the fuzz targets.
 #[doc(hidden)]
-pub use server::{FileRange, byte_range};
+pub use respond::{FileRange, byte_range};
 pub use server::{Running, Stopper, ViewServer};

@@ -1,6 +1,6 @@
 //! `serve`'s part of the front door ([`door`](crate::web::door)): it takes a WebSocket opening
-//! of `/api/live` for the live stream (which needs the socket's own timeouts, which an
-//! upgraded tiny_http connection hides) and leaves every other connection to the HTTP server.
+//! of `/api/live` for the live stream (which needs the socket itself, with its own timeouts)
+//! and leaves every other connection to the server's workers.
 
 use std::io::Write;
 use std::net::TcpStream;
