@@ -42,7 +42,7 @@ fn frames_in(dir: &Path) -> usize {
 
 #[test]
 fn an_ods_tour_at_a_diagonal_heading_keeps_its_memory_flat() {
-    if raster_common::gpu::rasterizer().is_none() {
+    if raster_common::rasterizer().is_none() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
