@@ -25,8 +25,8 @@ pub const HEAD_TIME: Duration = Duration::from_secs(10);
 pub const MAX_CONNECTIONS: usize = 128;
 /// Connections past [`MAX_CONNECTIONS`] answered 503 at once; more are closed unanswered.
 const MAX_TURNING_AWAY: usize = 32;
-/// How long a read of a request body or a write to a client may stall before the connection
-/// is dropped (a client that stops reading frees its HTTP worker).
+/// How long a write to a client may stall before the connection is dropped (a client that
+/// stops reading frees its thread).
 const STALL: Duration = Duration::from_secs(10);
 /// How often the idle accept loop looks whether it should stop.
 const ACCEPT_POLL: Duration = Duration::from_millis(5);
