@@ -1193,3 +1193,29 @@ fn regression_laz_chunk_table_is_checked_when_the_laszip_vlr_lists_no_items() {
     let e = load_error(dir.path(), "no_items.laz", &bytes).expect("must fail");
     assert!(e.to_string().contains("2955349533 chunks"), "{e}");
 }
+
+#[test]
+fn regression_copc_header_shorter_than_its_version_hides_no_laszip_vlr_from_the_checks() {
+    // Found by the read_copc fuzz target: a 2 kB COPC file whose header states 374 bytes for
+    // a LAS 1.4 header of 375. The las crate reads the VLRs after the 375 bytes, and the
+    // decoder took the LASzip VLR found there; the chunk checks walked the VLRs from byte 374,
+    // found none, and let the node's layer sizes (13 GB) through: laz zero-filled 1.85 GB.
+    let dir = tempdir();
+    let bytes = fuzz_input("copc_short_header_hides_laszip_vlr.copc.laz");
+    let path = dir.path().join("short.copc.laz");
+    std::fs::write(&path, &bytes).unwrap();
+    let octree = io::read_octree(&path).expect("the hierarchy is sound");
+    let keys: Vec<io::NodeKey> = octree.nodes.keys().copied().collect();
+    LARGEST.with(|l| l.set(0));
+    let e = io::open_nodes(&path, &keys).expect_err("the node's layers do not fit");
+    assert!(LARGEST.with(Cell::get) < LARGEST_ALLOWED);
+    assert!(matches!(e, LoadError::CorruptCopc { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("short.copc.laz") && text.contains("node 0-0-0-0"),
+        "{text}"
+    );
+    assert!(text.contains("13407739971 bytes of layers"), "{text}");
+    // Read as a whole LAZ file, through the same checks.
+    exercise(dir.path(), "whole.copc.laz", &bytes);
+}

@@ -439,7 +439,7 @@ pub fn open_nodes_stopping(
 
 /// Checks the layer sizes of the chunks of `entries` before the decoder reads them.
 fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
-    use super::las::laz_chunks::{Layout, NodeChunks};
+    use super::las::laz_chunks::{self, Layout, NodeChunks};
     if entries.is_empty() {
         return Ok(());
     }
@@ -452,7 +452,7 @@ fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
     let raw = las::raw::Header::read_from(&mut read).map_err(|e| corrupt(path, e.to_string()))?;
     let layout = Layout {
         file_len,
-        header_size: u64::from(raw.header_size),
+        vlrs_at: laz_chunks::vlrs_at(&raw),
         number_of_vlrs: raw.number_of_variable_length_records,
         offset_to_point_data: u64::from(raw.offset_to_point_data),
         declared_points: 0,

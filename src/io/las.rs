@@ -134,7 +134,7 @@ fn checked_raw_header(
     if check_points && raw.point_data_record_format & 0xC0 != 0 {
         let layout = laz_chunks::Layout {
             file_len,
-            header_size: u64::from(raw.header_size),
+            vlrs_at: laz_chunks::vlrs_at(&raw),
             number_of_vlrs: raw.number_of_variable_length_records,
             offset_to_point_data: u64::from(raw.offset_to_point_data),
             declared_points: raw

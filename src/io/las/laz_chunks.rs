@@ -25,12 +25,21 @@ const LAYERED_CHUNKED: u16 = 3;
 /// chunk table, and in each layered chunk's header).
 const VARIABLE_CHUNK_SIZE: u32 = u32::MAX;
 
+/// Where the las crate reads the VLRs of a file with header `raw`: after its stated header
+/// size, or after its version's header where that is longer (found by fuzzing: a COPC file
+/// stating 374 bytes for a LAS 1.4 header of 375 hid its LASzip VLR from the checks, which
+/// looked one byte early, while the decoder used it).
+pub(in crate::io) fn vlrs_at(raw: &las::raw::Header) -> u64 {
+    u64::from(raw.header_size.max(raw.version.header_size()))
+}
+
 /// What the checks need from the LAS header.
 pub(in crate::io) struct Layout {
     /// Bytes in the file.
     pub file_len: u64,
-    /// LAS header size: the VLRs start there.
-    pub header_size: u64,
+    /// Where the VLRs start: after the header size the header states, or after the header
+    /// its version has where that is longer, as the las crate reads them ([`vlrs_at`]).
+    pub vlrs_at: u64,
     /// VLRs the header declares.
     pub number_of_vlrs: u32,
     /// Where the compressed point data starts.
@@ -147,6 +156,7 @@ impl NodeChunks {
         };
         let count_at = offset + shape.first_point;
         let layers_at = count_at + 4 + 4 * shape.layers as u64;
+
         let Some(sizes) = bytes
             .u32s(count_at + 4, shape.layers)
             .map_err(|e| e.to_string())?
@@ -211,7 +221,7 @@ fn find_laszip_vlr<R: Read + Seek>(
     bytes: &mut ByteReader<'_, R>,
     layout: &Layout,
 ) -> Result<Option<LaszipVlr>, LoadError> {
-    let mut at = layout.header_size;
+    let mut at = layout.vlrs_at;
     for _ in 0..layout.number_of_vlrs {
         let Some(head) = bytes.bytes::<{ VLR_HEADER as usize }>(at)? else {
             return Ok(None);
