@@ -1219,3 +1219,64 @@ fn regression_copc_header_shorter_than_its_version_hides_no_laszip_vlr_from_the_
     // Read as a whole LAZ file, through the same checks.
     exercise(dir.path(), "whole.copc.laz", &bytes);
 }
+
+#[test]
+fn regression_laz_gps_time_switching_sequences_without_end_is_an_error_not_a_stack_overflow() {
+    // Found by the read_copc fuzz target (a segmentation fault): a 2 kB COPC file whose node
+    // decodes "switch to another GPS time sequence" over and over. laz recursed once per
+    // switch and overflowed the stack; its decoders now loop (vendor/laz/PATCHES.md) and
+    // refuse a point past 1024 switches.
+    let dir = tempdir();
+    let bytes = fuzz_input("copc_gps_time_switches_without_end.copc.laz");
+    let path = dir.path().join("switches.copc.laz");
+    std::fs::write(&path, &bytes).unwrap();
+    let octree = io::read_octree(&path).expect("the hierarchy is sound");
+    let keys: Vec<io::NodeKey> = octree.nodes.keys().copied().collect();
+    let started = std::time::Instant::now();
+    let reader = io::open_nodes(&path, &keys).expect("the node's chunk is in place");
+    let e = reader
+        .chunks(4096)
+        .find_map(Result::err)
+        .expect("the node's points do not decode");
+    assert!(
+        started.elapsed() < Duration::from_secs(1),
+        "{:?}",
+        started.elapsed()
+    );
+    let text = e.to_string();
+    assert!(text.contains("switches.copc.laz"), "{text}");
+    assert!(
+        text.contains("switches sequence more than 1024 times"),
+        "{text}"
+    );
+    exercise(dir.path(), "whole.copc.laz", &bytes);
+}
+
+#[test]
+fn regression_laszip_items_larger_than_the_point_records_are_refused_before_decoding() {
+    // Found by the read_copc fuzz target (a slow unit): a 4.5 kB COPC file whose LASzip VLR
+    // lists an extra-bytes item of 63,495 bytes for 38-byte records. laz set up a model per
+    // extra byte before reading a point: 620 MB and a second to open the file.
+    let dir = tempdir();
+    let bytes = fuzz_input("copc_extra_bytes_item_larger_than_the_records.copc.laz");
+    let path = dir.path().join("items.copc.laz");
+    std::fs::write(&path, &bytes).unwrap();
+    LARGEST.with(|l| l.set(0));
+    let started = std::time::Instant::now();
+    let e = io::read_octree(&path).expect_err("the items do not match the records");
+    assert!(
+        started.elapsed() < Duration::from_millis(100),
+        "{:?}",
+        started.elapsed()
+    );
+    assert!(LARGEST.with(Cell::get) < 1 << 20);
+    assert!(matches!(e, LoadError::CorruptHeader { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("items.copc.laz")
+            && text.contains("add up to 63525 bytes a point")
+            && text.contains("records are 38 bytes"),
+        "{text}"
+    );
+    exercise(dir.path(), "whole.copc.laz", &bytes);
+}

@@ -162,6 +162,8 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
         let header = las::Header::new(&mut BufReader::new(open()?))
             .map_err(|e| corrupt(path, e.to_string()))?;
         check_pages(path, &header)?;
+        // The decoder sets up its models from the LASzip VLR's items here.
+        node_chunks(path)?;
         las::CopcReader::new(BufReader::new(open()?)).map_err(|e| match e {
             las::Error::CopcHierarchyEvlrNotFound => corrupt(
                 path,
@@ -437,12 +439,12 @@ pub fn open_nodes_stopping(
     })
 }
 
-/// Checks the layer sizes of the chunks of `entries` before the decoder reads them.
-fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
+/// The file's LASzip VLR, checked against its header ([`NodeChunks::new`]), and the file
+/// opened for reading its chunks.
+fn node_chunks(
+    path: &Path,
+) -> Result<(super::las::laz_chunks::NodeChunks, BufReader<File>), LoadError> {
     use super::las::laz_chunks::{self, Layout, NodeChunks};
-    if entries.is_empty() {
-        return Ok(());
-    }
     let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
     let file_len = file
         .metadata()
@@ -456,8 +458,18 @@ fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
         number_of_vlrs: raw.number_of_variable_length_records,
         offset_to_point_data: u64::from(raw.offset_to_point_data),
         declared_points: 0,
+        record_length: raw.point_data_record_length,
     };
     let chunks = NodeChunks::new(path, &mut read, &layout)?;
+    Ok((chunks, read))
+}
+
+/// Checks the layer sizes of the chunks of `entries` before the decoder reads them.
+fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
+    if entries.is_empty() {
+        return Ok(());
+    }
+    let (chunks, mut read) = node_chunks(path)?;
     for entry in entries {
         let size = u64::try_from(entry.byte_size).unwrap_or(0);
         chunks

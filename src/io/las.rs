@@ -141,6 +141,7 @@ fn checked_raw_header(
                 .large_file
                 .map_or(0, |l| l.number_of_point_records)
                 .max(u64::from(raw.number_of_point_records)),
+            record_length: raw.point_data_record_length,
         };
         laz_chunks::check(path, read, &layout)?;
     }
