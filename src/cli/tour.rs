@@ -270,19 +270,25 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
     let pb = progress::bar(args.quiet, 0, "loading");
     let planned = tour::plan(&request, &pb);
     pb.finish_and_clear();
-    let planned = planned?;
+    let mut planned = planned?;
     if let Some(report) = &planned.load_report {
         super::notes::say_load_notes(&args.file, report, &say);
     }
     super::notes::say_units(&info, &scale, &given.given_lengths(), &say);
     let total = planned.poses.len();
     let unit = info.length_symbol();
+    let points = match planned.surveyed_from {
+        Some(all) => format!(
+            "planned on {} of {all} points (its coarse levels),",
+            planned.scene.len()
+        ),
+        None => format!("{} points", planned.scene.len()),
+    };
     say(format!(
-        "{}: {} points around origin ({}, {}, {}); path {} of {:.1} {unit} through {} keyframes, \
+        "{}: {points} around origin ({}, {}, {}); path {} of {:.1} {unit} through {} keyframes, \
          eye {:.2} {unit} above the ground where it gives no z: {total} frames (prepared in \
          {:.2?})",
         args.file.display(),
-        planned.scene.len(),
         planned.origin.x,
         planned.origin.y,
         planned.origin.z,
@@ -357,6 +363,15 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
             stream
         }
         None => {
+            if planned.surveyed_from.is_some() {
+                let pb = progress::bar(args.quiet, 0, "loading every point");
+                let whole = planned.load_whole(&request, &pb);
+                pb.finish_and_clear();
+                whole?;
+                if let Some(report) = &planned.load_report {
+                    super::notes::say_load_notes(&args.file, report, &say);
+                }
+            }
             let kept = Resident::new(&planned.scene, args.draw.renderer, &settings).with_context(
                 || format!("keeping {} resident for the tour", args.file.display()),
             )?;

@@ -36,6 +36,13 @@ pub const LOD_RADIUS_FACTOR: f64 = 0.7;
 /// Points read at most to place the camera automatically (whole levels from the root).
 pub const CAMERA_SURVEY_POINTS: u64 = 1 << 18;
 
+/// Points read at most to plan a tour of a COPC file (whole levels from the root): the
+/// ground under its path and its bounds come from them, not from every point.
+pub const PLAN_SURVEY_POINTS: u64 = 1 << 22;
+
+/// Full-detail patches [`detail_spacing`] measures the point spacing in.
+pub const SPACING_PATCHES: usize = 4;
+
 /// Level of detail for COPC input (other formats are always read whole).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Lod {
@@ -179,6 +186,173 @@ pub fn coarse_nodes(octree: &Octree, budget: u64) -> Vec<NodeKey> {
         .collect();
     keys.sort_unstable();
     keys
+}
+
+/// Up to [`SPACING_PATCHES`] leaves of `octree` (nodes with points and no children), spread
+/// over the file's points: the leaves in key order, picked at evenly spaced shares of their
+/// points, so dense parts count as they do among all points.
+fn spacing_patches(octree: &Octree) -> Vec<NodeKey> {
+    let mut leaves: Vec<(NodeKey, u64)> = octree
+        .nodes
+        .iter()
+        .filter(|(k, n)| **n > 0 && !octree.has_children(**k))
+        .map(|(k, n)| (*k, *n))
+        .collect();
+    leaves.sort_unstable();
+    let total: u64 = leaves.iter().map(|(_, n)| n).sum();
+    let mut picked = Vec::new();
+    let mut seen = 0;
+    let mut next = 0;
+    for (key, n) in leaves {
+        seen += n;
+        // Pick the leaf holding the point at share (next + 1/2) / SPACING_PATCHES.
+        while next < SPACING_PATCHES
+            && (2 * next as u64 + 1) * total < 2 * seen * SPACING_PATCHES as u64
+        {
+            if picked.last() != Some(&key) {
+                picked.push(key);
+            }
+            next += 1;
+        }
+    }
+    picked
+}
+
+/// The parent of `key` (the root for the root).
+fn parent(key: NodeKey) -> NodeKey {
+    if key.depth == 0 {
+        return key;
+    }
+    NodeKey {
+        depth: key.depth - 1,
+        x: key.x / 2,
+        y: key.y / 2,
+        z: key.z / 2,
+    }
+}
+
+/// The median spacing ([`radius::median_spacing`]) of the COPC file `path`'s points at full
+/// detail, in file units, measured without reading them all: inside the cubes of a few
+/// leaves ([`spacing_patches`]), each read with its ancestors, which together hold every
+/// point of the file inside the leaf's cube. `None` as for `median_spacing`.
+///
+/// # Errors
+/// A [`LoadError`] (a corrupt node names the file).
+pub fn detail_spacing(path: &Path, octree: &Octree) -> Result<Option<f32>, LoadError> {
+    let patches = spacing_patches(octree);
+    let mut keys: Vec<NodeKey> = Vec::new();
+    for &leaf in &patches {
+        let mut key = leaf;
+        loop {
+            if octree.nodes.get(&key).is_some_and(|n| *n > 0) {
+                keys.push(key);
+            }
+            if key.depth == 0 {
+                break;
+            }
+            key = parent(key);
+        }
+    }
+    keys.sort_unstable();
+    keys.dedup();
+    if keys.is_empty() {
+        return Ok(None);
+    }
+    let (scene, _) = load_files_with_reader(
+        &[path.to_path_buf()],
+        &LoadOptions::default(),
+        &ProgressBar::hidden(),
+        &|p| io::open_nodes(p, &keys),
+    )?;
+    let cubes: Vec<(DVec3, DVec3)> = patches.iter().map(|k| octree.bounds(*k)).collect();
+    let inside: Vec<bool> = scene
+        .positions
+        .iter()
+        .map(|p| {
+            let f = scene.origin + p.as_dvec3();
+            cubes
+                .iter()
+                .any(|(lo, hi)| f.cmpge(*lo).all() && f.cmplt(*hi).all())
+        })
+        .collect();
+    Ok(radius::median_spacing(&scene.select(&inside)))
+}
+
+/// A tour's planning read of a COPC file: whole levels from the root, prepared as
+/// [`super::prepare_scene`] prepares points (filters, the given camera, the local zero).
+#[derive(Debug, Clone)]
+pub struct Survey {
+    /// The points read, prepared (`lod` is `None`: no view chose them).
+    pub prepared: super::Prepared,
+    /// The file's median spacing at full detail ([`detail_spacing`]); `None` where it cannot
+    /// be measured.
+    pub detail_spacing: Option<f32>,
+    /// Points in the file.
+    pub points_total: u64,
+}
+
+/// Reads the coarse levels of the COPC file `path` holding at most `budget` points
+/// ([`coarse_nodes`]) and prepares them with `options` (its `lod` does not apply). `None`
+/// when `path` is not COPC or holds no more than `budget` points: read it whole. Radii a
+/// survey does not need are not measured: a neighbour-searched radius becomes the auto
+/// radius of the full-detail spacing, as a node stream draws it.
+///
+/// # Errors
+/// A [`LoadError`] naming the file, or a filter's error.
+pub fn survey(
+    path: &Path,
+    options: &PrepareOptions,
+    budget: u64,
+    progress: &ProgressBar,
+) -> Result<Option<Survey>, PrepareError> {
+    let info = io::read_info(path)?;
+    if !io::is_copc(&info) {
+        return Ok(None);
+    }
+    let octree = io::read_octree(path)?;
+    if octree.point_count <= budget {
+        return Ok(None);
+    }
+    options.filter.check(&info)?;
+    let keys = coarse_nodes(&octree, budget);
+    // Read around the file's own origin, then moved onto the tour's, as `prepare_files`
+    // reads the whole scan: the same rounding, so the same positions.
+    let load = LoadOptions {
+        origin: None,
+        up: options.up,
+        ..LoadOptions::default()
+    };
+    let (scene, report) = load_files_with_reader(&[path.to_path_buf()], &load, progress, &|p| {
+        io::open_nodes(p, &keys)
+    })?;
+    let detail = detail_spacing(path, &octree)?;
+    let stored = info.attributes.radius && matches!(scene.radii, Radii::PerPoint(_));
+    let radius = match options.radius {
+        None if stored => None,
+        Some(RadiusChoice::Fixed(r)) => Some(RadiusChoice::Fixed(r)),
+        _ => Some(RadiusChoice::Fixed(radius::radius_for_spacing(detail))),
+    };
+    let prepared = super::prepare_scene(
+        scene,
+        &PrepareOptions {
+            radius,
+            lod: Lod::Off,
+            ..*options
+        },
+        path,
+    )?;
+    Ok(Some(Survey {
+        prepared: super::Prepared {
+            scene: prepared.scene,
+            camera_world: prepared.camera_world,
+            radii: prepared.radii,
+            report,
+            filtered: prepared.filtered,
+            lod: None,
+        },
+        detail_spacing: detail,
+        points_total: octree.point_count,
+    }))
 }
 
 /// What a view-dependent read did, for the summary.
@@ -484,6 +658,45 @@ mod tests {
             point_count: 10 * nodes.len() as u64,
             nodes,
         }
+    }
+
+    #[test]
+    fn spacing_patches_are_leaves_spread_over_the_points() {
+        let mut o = full(3);
+        // One dense leaf holding as many points as all the others: two of the four shares
+        // fall in it, so it is picked once and the others spread over the rest.
+        let dense = NodeKey {
+            depth: 3,
+            x: 7,
+            y: 7,
+            z: 7,
+        };
+        *o.nodes.get_mut(&dense).unwrap() = 10 * 511;
+        let picked = spacing_patches(&o);
+        assert_eq!(picked.len(), 3, "{picked:?}");
+        assert!(picked.iter().all(|k| k.depth == 3));
+        assert!(picked.contains(&dense));
+        assert!(picked.windows(2).all(|w| w[0] < w[1]));
+        // Evenly filled leaves: four distinct ones, a quarter of the leaves apart.
+        let even = spacing_patches(&full(3));
+        assert_eq!(even.len(), SPACING_PATCHES);
+        let mut leaves: Vec<NodeKey> = full(3).nodes.into_keys().filter(|k| k.depth == 3).collect();
+        leaves.sort_unstable();
+        let at: Vec<usize> = even
+            .iter()
+            .map(|k| leaves.binary_search(k).unwrap())
+            .collect();
+        assert_eq!(at, [64, 192, 320, 448]);
+        assert_eq!(
+            parent(dense),
+            NodeKey {
+                depth: 2,
+                x: 3,
+                y: 3,
+                z: 3
+            }
+        );
+        assert_eq!(parent(NodeKey::ROOT), NodeKey::ROOT);
     }
 
     #[test]

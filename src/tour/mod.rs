@@ -22,6 +22,7 @@ use glam::{DVec3, Vec2};
 use indicatif::ProgressBar;
 
 use crate::io::FileInfo;
+use crate::prepare::lod::{self, PLAN_SURVEY_POINTS};
 use crate::prepare::{EyeHeight, PrepareError, PrepareOptions, prepare, prepare_scene};
 use crate::scene::Scene;
 
@@ -131,6 +132,80 @@ pub struct Tour {
     pub load_report: Option<crate::io::LoadReport>,
     /// For a tour of a survey's stations: the station each frame stands at, in frame order.
     pub stations: Vec<crate::frames::StationMark>,
+    /// Points in the scan file when [`Tour::scene`] holds only its coarse levels (a COPC
+    /// file of more than [`PLAN_SURVEY_POINTS`] points, planned on
+    /// [`lod::survey`]); `None` when it is the whole scan. [`Tour::load_whole`] reads the rest.
+    pub surveyed_from: Option<u64>,
+}
+
+impl Tour {
+    /// Reads the whole scan into [`Tour::scene`] (around the tour's origin, as `request`
+    /// reads it) when the tour was planned on coarse levels; nothing otherwise.
+    ///
+    /// # Errors
+    /// The scan's loading errors.
+    pub fn load_whole(
+        &mut self,
+        request: &TourRequest,
+        progress: &ProgressBar,
+    ) -> Result<(), TourError> {
+        if self.surveyed_from.is_none() {
+            return Ok(());
+        }
+        let TourScan::File(file) = &request.scan else {
+            return Ok(());
+        };
+        let prepared = prepare(file, &tour_options(request, self.origin), progress)?;
+        self.scene = prepared.scene;
+        self.load_report = Some(prepared.report);
+        self.surveyed_from = None;
+        Ok(())
+    }
+}
+
+/// The options `request` reads its scan with for a tour around `origin`.
+fn tour_options(request: &TourRequest, origin: DVec3) -> PrepareOptions {
+    PrepareOptions {
+        origin: Some(origin),
+        camera: crate::prepare::CameraChoice::At(origin),
+        ..request.prepare
+    }
+}
+
+/// What a tour is planned on: the scan, what loading it did, its median point spacing (for
+/// the eye height), and the file's point count when only its coarse levels were read.
+struct PlanningRead {
+    scene: Scene,
+    report: Option<crate::io::LoadReport>,
+    spacing: Option<f32>,
+    surveyed_from: Option<u64>,
+}
+
+/// Reads `file` for planning a tour around `options.origin`: at most `budget` points of the
+/// coarse levels of a larger COPC file ([`lod::survey`]: the ground and the bounds need no
+/// more), else every point.
+fn planning_read(
+    file: &Path,
+    options: &PrepareOptions,
+    budget: u64,
+    progress: &ProgressBar,
+) -> Result<PlanningRead, TourError> {
+    if let Some(survey) = lod::survey(file, options, budget, progress)? {
+        return Ok(PlanningRead {
+            scene: survey.prepared.scene,
+            report: Some(survey.prepared.report),
+            spacing: survey.detail_spacing,
+            surveyed_from: Some(survey.points_total),
+        });
+    }
+    let prepared = prepare(file, options, progress)?;
+    let spacing = crate::prepare::radius::median_spacing(&prepared.scene);
+    Ok(PlanningRead {
+        scene: prepared.scene,
+        report: Some(prepared.report),
+        spacing,
+        surveyed_from: None,
+    })
 }
 
 /// Why a tour could not be laid out.
@@ -166,6 +241,15 @@ pub enum TourError {
 /// The path file's errors (naming line or feature), fewer than two distinct keyframes, a
 /// keyframe outside the scan's bounds, and the scan's loading errors.
 pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
+    plan_surveying(request, PLAN_SURVEY_POINTS, progress)
+}
+
+/// [`plan`], a COPC file of more than `survey` points planned on its coarse levels.
+fn plan_surveying(
+    request: &TourRequest,
+    survey: u64,
+    progress: &ProgressBar,
+) -> Result<Tour, TourError> {
     let bad = |message: String| TourError::BadPath {
         path: request.route.to_string().into(),
         message,
@@ -173,7 +257,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
     let mut keyframes = match &request.route {
         Route::Path(file) => path::read_path(file)?,
         Route::Keyframes { keyframes, .. } => keyframes.clone(),
-        Route::Stations => return plan_stations(request, progress),
+        Route::Stations => return plan_stations(request, survey, progress),
     };
     // Consecutive repeats (common in exported lines) add nothing to the curve.
     keyframes.dedup_by(|b, a| a.x == b.x && a.y == b.y && a.z == b.z);
@@ -192,21 +276,20 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
             .or_else(|| scene.bounds().map(|(lo, hi)| world_bounds(scene, lo, hi))),
     };
     let origin = path_origin(&keyframes, header);
-    let options = PrepareOptions {
-        origin: Some(origin),
-        camera: crate::prepare::CameraChoice::At(origin),
-        ..request.prepare
-    };
-    let (scene, load_report) = match &request.scan {
-        TourScan::File(file) => {
-            let prepared = prepare(file, &options, progress)?;
-            (prepared.scene, Some(prepared.report))
+    let options = tour_options(request, origin);
+    let read = match &request.scan {
+        TourScan::File(file) => planning_read(file, &options, survey, progress)?,
+        TourScan::Points { scene, name, .. } => {
+            let scene = prepare_scene(Scene::clone(scene), &options, name)?.scene;
+            PlanningRead {
+                spacing: crate::prepare::radius::median_spacing(&scene),
+                scene,
+                report: None,
+                surveyed_from: None,
+            }
         }
-        TourScan::Points { scene, name, .. } => (
-            prepare_scene(Scene::clone(scene), &options, name)?.scene,
-            None,
-        ),
     };
+    let scene = read.scene;
     // The header's bounds when it has them (the numbers `omnicloud info` shows; in file axes,
     // so not for a Y-up file), else the points'.
     let header = header.filter(|_| request.prepare.up == crate::io::Up::Z);
@@ -216,9 +299,7 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
             .expect("a prepared scene has at least one point");
         world_bounds(&scene, lo, hi)
     });
-    let height = request
-        .height
-        .over(crate::prepare::radius::median_spacing(&scene));
+    let height = request.height.over(read.spacing);
     let ground = ground::GroundIndex::new(&scene);
     // A path without any height walks over the ground; one with some heights keeps them
     // and puts only the missing ones on the ground.
@@ -311,15 +392,20 @@ pub fn plan(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourE
         length: curve.length(),
         eye_height: height,
         poses,
-        load_report,
+        load_report: read.report,
         stations: Vec::new(),
+        surveyed_from: read.surveyed_from,
     })
 }
 
 /// One frame at each station of the scan (those its `#scan:` pick names), each with its
 /// station's heading plus the request's offsets; the scan loaded once around the stations'
 /// centre (in whole metres). Arc lengths run along the straight legs between stations.
-fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, TourError> {
+fn plan_stations(
+    request: &TourRequest,
+    survey: u64,
+    progress: &ProgressBar,
+) -> Result<Tour, TourError> {
     let scan = match &request.scan {
         TourScan::File(file) => file,
         TourScan::Points { name, .. } => {
@@ -336,12 +422,7 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
             (lo.min(s.position), hi.max(s.position))
         });
     let origin = ((lo + hi) * 0.5).round();
-    let options = PrepareOptions {
-        origin: Some(origin),
-        camera: crate::prepare::CameraChoice::At(origin),
-        ..request.prepare
-    };
-    let prepared = prepare(scan, &options, progress)?;
+    let read = planning_read(scan, &tour_options(request, origin), survey, progress)?;
     let mut arc_length = 0.0;
     let mut previous = stations.first().map(|s| s.position);
     let poses = stations
@@ -358,17 +439,16 @@ fn plan_stations(request: &TourRequest, progress: &ProgressBar) -> Result<Tour, 
             }
         })
         .collect();
-    let eye_height = request
-        .height
-        .over(crate::prepare::radius::median_spacing(&prepared.scene));
+    let eye_height = request.height.over(read.spacing);
     Ok(Tour {
-        scene: prepared.scene,
+        scene: read.scene,
         origin,
         keyframes: stations.iter().map(|s| s.position).collect(),
         length: arc_length,
         eye_height,
         poses,
-        load_report: Some(prepared.report),
+        load_report: read.report,
+        surveyed_from: read.surveyed_from,
         stations: stations
             .iter()
             .enumerate()
@@ -510,5 +590,49 @@ mod tests {
                 && message.contains(SCAN),
             "{message}"
         );
+    }
+
+    #[test]
+    fn a_copc_tour_planned_on_its_coarse_levels_walks_where_the_whole_scan_does() {
+        let dir = tempfile::tempdir().unwrap();
+        let copc = dir.path().join("autzen.copc.laz");
+        crate::index::index(
+            &[PathBuf::from(SCAN)],
+            &copc,
+            &crate::index::IndexOptions::default(),
+            &ProgressBar::hidden(),
+        )
+        .unwrap();
+        let request = request(TourScan::File(copc.clone()), Route::Path(WALK.into()));
+        let hidden = ProgressBar::hidden();
+        let whole = plan_surveying(&request, u64::MAX, &hidden).unwrap();
+        let mut surveyed = plan_surveying(&request, 1 << 16, &hidden).unwrap();
+        let total = whole.scene.len() as u64;
+        assert_eq!(whole.surveyed_from, None);
+        assert_eq!(surveyed.surveyed_from, Some(total));
+        let read = surveyed.scene.len() as u64;
+        assert!(read <= 1 << 16 && read * 2 < total, "{read} of {total}");
+        assert_eq!(surveyed.origin, whole.origin);
+        // The eye height from the spacing of a few full-detail patches against every point's
+        // (measured 2.8 % apart).
+        let height = surveyed.eye_height / whole.eye_height;
+        assert!((height - 1.0).abs() < 0.03, "{height}");
+        assert_eq!(surveyed.poses.len(), whole.poses.len());
+        // The ground under the walk, from a third of the points: within 0.7 ft (the file is in
+        // feet; measured 0.65 ft where a cell of the estimator holds a point or two. A survey
+        // of a large file holds tens per cell; from a sixth of Autzen it differed by 5.5 ft).
+        let mut worst = 0.0f64;
+        for (s, w) in surveyed.poses.iter().zip(&whole.poses) {
+            assert_eq!(s.position[..2], w.position[..2]);
+            assert_eq!(s.yaw, w.yaw);
+            let ground = |p: &Pose, eye: f64| p.position[2] - eye;
+            let dz = (ground(s, surveyed.eye_height) - ground(w, whole.eye_height)).abs();
+            worst = worst.max(dz);
+        }
+        assert!(worst < 0.7, "{worst} ft");
+        // Reading the rest gives the points a whole read does.
+        surveyed.load_whole(&request, &hidden).unwrap();
+        assert_eq!(surveyed.surveyed_from, None);
+        assert_eq!(surveyed.scene.positions, whole.scene.positions);
     }
 }
