@@ -1280,3 +1280,21 @@ fn regression_laszip_items_larger_than_the_point_records_are_refused_before_deco
     );
     exercise(dir.path(), "whole.copc.laz", &bytes);
 }
+
+#[test]
+fn regression_copc_cube_whose_corners_overflow_is_refused() {
+    // Found by the read_copc fuzz target: an info VLR with a halfsize of 1.19e308 (finite, so
+    // it passed), whose node cubes came out NaN and infinite.
+    let dir = tempdir();
+    let bytes = fuzz_input("copc_cube_corners_overflow.copc.laz");
+    let path = dir.path().join("cube.copc.laz");
+    std::fs::write(&path, &bytes).unwrap();
+    let e = io::read_octree(&path).expect_err("the cube does not fit in f64");
+    assert!(matches!(e, LoadError::CorruptCopc { .. }), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("cube.copc.laz") && text.contains("halfsize 118647747017762"),
+        "{text}"
+    );
+    exercise(dir.path(), "whole.copc.laz", &bytes);
+}

@@ -278,7 +278,10 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
         .ok_or_else(|| corrupt(path, "the COPC info VLR does not parse"))?;
     let center = DVec3::new(info.center_x, info.center_y, info.center_z);
     let usable = |v: f64| v.is_finite() && v > 0.0;
-    if !(center.is_finite() && usable(info.halfsize) && usable(info.spacing)) {
+    // The cube's corners must be finite too (found by fuzzing: a halfsize of ~1e308 made
+    // every node's bounds NaN).
+    let corners_finite = (center.abs() + DVec3::splat(4.0 * info.halfsize)).is_finite();
+    if !(center.is_finite() && usable(info.halfsize) && usable(info.spacing) && corners_finite) {
         return Err(corrupt(
             path,
             format!(
