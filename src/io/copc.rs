@@ -51,6 +51,16 @@ impl NodeKey {
         })
     }
 
+    /// The node whose child this is; `None` for the root.
+    pub fn parent(self) -> Option<NodeKey> {
+        (self.depth > 0).then(|| NodeKey {
+            depth: self.depth - 1,
+            x: self.x / 2,
+            y: self.y / 2,
+            z: self.z / 2,
+        })
+    }
+
     fn from_las(key: &VoxelKey) -> Option<NodeKey> {
         let depth = u32::try_from(key.l).ok().filter(|d| *d <= MAX_DEPTH)?;
         let side = 1u64 << depth;

@@ -218,19 +218,6 @@ fn spacing_patches(octree: &Octree) -> Vec<NodeKey> {
     picked
 }
 
-/// The parent of `key` (the root for the root).
-fn parent(key: NodeKey) -> NodeKey {
-    if key.depth == 0 {
-        return key;
-    }
-    NodeKey {
-        depth: key.depth - 1,
-        x: key.x / 2,
-        y: key.y / 2,
-        z: key.z / 2,
-    }
-}
-
 /// The median spacing ([`radius::median_spacing`]) of the COPC file `path`'s points at full
 /// detail, in file units, measured without reading them all: inside the cubes of a few
 /// leaves ([`spacing_patches`]), each read with its ancestors, which together hold every
@@ -242,15 +229,12 @@ pub fn detail_spacing(path: &Path, octree: &Octree) -> Result<Option<f32>, LoadE
     let patches = spacing_patches(octree);
     let mut keys: Vec<NodeKey> = Vec::new();
     for &leaf in &patches {
-        let mut key = leaf;
-        loop {
-            if octree.nodes.get(&key).is_some_and(|n| *n > 0) {
-                keys.push(key);
+        let mut key = Some(leaf);
+        while let Some(k) = key {
+            if octree.nodes.get(&k).is_some_and(|n| *n > 0) {
+                keys.push(k);
             }
-            if key.depth == 0 {
-                break;
-            }
-            key = parent(key);
+            key = k.parent();
         }
     }
     keys.sort_unstable();
@@ -688,15 +672,16 @@ mod tests {
             .collect();
         assert_eq!(at, [64, 192, 320, 448]);
         assert_eq!(
-            parent(dense),
-            NodeKey {
+            dense.parent(),
+            Some(NodeKey {
                 depth: 2,
                 x: 3,
                 y: 3,
                 z: 3
-            }
+            })
         );
-        assert_eq!(parent(NodeKey::ROOT), NodeKey::ROOT);
+        assert_eq!(NodeKey::ROOT.parent(), None);
+        assert!(dense.children().all(|c| c.parent() == Some(dense)));
     }
 
     #[test]
