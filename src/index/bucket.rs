@@ -70,12 +70,21 @@ impl Spill {
     /// # Errors
     /// [`IndexError::Scratch`] when a flush fails (a full disk).
     pub fn push(&mut self, key: NodeKey, record: &[u8]) -> Result<(), IndexError> {
+        self.push_many(key, record)
+    }
+
+    /// Adds whole records (`records.len()` a multiple of the record length) to bucket `key`.
+    ///
+    /// # Errors
+    /// [`IndexError::Scratch`] when a flush fails (a full disk).
+    pub fn push_many(&mut self, key: NodeKey, records: &[u8]) -> Result<(), IndexError> {
+        debug_assert_eq!(records.len() % self.record_len, 0);
         self.buffers
             .entry(key)
             .or_default()
-            .extend_from_slice(record);
-        *self.counts.entry(key).or_default() += 1;
-        self.buffered += record.len();
+            .extend_from_slice(records);
+        *self.counts.entry(key).or_default() += (records.len() / self.record_len) as u64;
+        self.buffered += records.len();
         if self.buffered >= self.limit {
             self.flush()?;
         }
@@ -127,6 +136,11 @@ impl Spill {
             .collect();
         buckets.sort_by(|a, b| b.points.cmp(&a.points).then(a.key.cmp(&b.key)));
         Ok(buckets)
+    }
+
+    /// Bytes buffered before a flush.
+    pub fn limit(&self) -> usize {
+        self.limit
     }
 
     /// Bytes per record.

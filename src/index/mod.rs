@@ -45,7 +45,10 @@ pub const DEFAULT_MAX_MEMORY: u64 = 2_000_000_000;
 pub const BUILD_BYTES_PER_POINT: u64 = 240;
 /// Deepest bucket level.
 const MAX_BUCKET_DEPTH: u32 = 7;
-/// Points read per chunk.
+/// Points read at a time while spilling, at least and at most.
+const MIN_READ_CHUNK: usize = 1 << 16;
+const MAX_READ_CHUNK: usize = 1 << 18;
+/// Points read at a time while finding bounds.
 const READ_CHUNK: usize = 1 << 16;
 
 /// What an index may be told.
@@ -239,9 +242,83 @@ impl Tally {
             self.gps = (self.gps.0.min(t), self.gps.1.max(t));
         }
     }
+
+    fn merge(&mut self, other: &Tally) {
+        self.points += other.points;
+        self.dropped += other.dropped;
+        for a in 0..3 {
+            self.lo[a] = self.lo[a].min(other.lo[a]);
+            self.hi[a] = self.hi[a].max(other.hi[a]);
+        }
+        for (mine, theirs) in self.by_return.iter_mut().zip(other.by_return) {
+            *mine += theirs;
+        }
+        self.gps = (self.gps.0.min(other.gps.0), self.gps.1.max(other.gps.1));
+    }
 }
 
-/// Reads every input once (a reader thread decodes while this one buckets) into `spill`.
+/// Points of a read chunk made into records, grouped by bucket (in input order within each).
+struct Filed {
+    /// `(bucket, records)`, ordered by where each bucket first appears.
+    groups: Vec<(NodeKey, Vec<u8>)>,
+    tally: Tally,
+    read: u64,
+}
+
+/// Points handed to one task when a read chunk is made into records.
+const FILE_TASK: usize = 1 << 14;
+
+/// Makes a chunk's points into records grouped by their bucket at `depth`, on every core.
+fn file_chunk(chunk: &RawChunk, layout: Layout, q: &Quantizer, cube: &Cube, depth: u32) -> Filed {
+    let has_gps = chunk.gps_time.is_some();
+    let n = chunk.positions.len();
+    let parts: Vec<Filed> = (0..n.div_ceil(FILE_TASK))
+        .into_par_iter()
+        .map(|t| {
+            let mut tally = Tally::new();
+            let mut groups: Vec<(NodeKey, Vec<u8>)> = Vec::new();
+            let mut at: HashMap<NodeKey, usize> = HashMap::new();
+            let mut record = Vec::with_capacity(layout.len);
+            let points = t * FILE_TASK..((t + 1) * FILE_TASK).min(n);
+            let read = points.len() as u64;
+            for i in points {
+                let p = chunk.positions[i];
+                let Some(xyz) = io::usable(p).then(|| q.ints(p)).flatten() else {
+                    tally.dropped += 1;
+                    continue;
+                };
+                record.clear();
+                layout.push(&mut record, xyz, &fields(chunk, i));
+                tally.add(xyz, &record, has_gps);
+                let key = cube.key_at(depth, p);
+                let g = *at.entry(key).or_insert_with(|| {
+                    groups.push((key, Vec::new()));
+                    groups.len() - 1
+                });
+                groups[g].1.extend_from_slice(&record);
+            }
+            Filed {
+                groups,
+                tally,
+                read,
+            }
+        })
+        .collect();
+    let mut whole = Filed {
+        groups: Vec::new(),
+        tally: Tally::new(),
+        read: 0,
+    };
+    for part in parts {
+        whole.tally.merge(&part.tally);
+        whole.groups.extend(part.groups);
+        whole.read += part.read;
+    }
+    whole
+}
+
+/// Reads every input once into `spill`: a reader thread decodes (LAZ chunks in parallel)
+/// and makes the points into records on every core while this one appends them to buckets.
 fn spill_inputs(
     paths: &[PathBuf],
     layout: Layout,
@@ -252,8 +329,12 @@ fn spill_inputs(
     progress: &ProgressBar,
 ) -> Result<Tally, IndexError> {
     let mut tally = Tally::new();
+    // Points per read: large enough for several LAZ chunks to decode at once, small enough
+    // that the chunks in flight (about 100 bytes a point, six at a time) stay within an
+    // eighth of the cap.
+    let read_points = (spill.limit() / 6 / 100).clamp(MIN_READ_CHUNK, MAX_READ_CHUNK);
     std::thread::scope(|scope| {
-        let (tx, rx) = sync_channel::<Result<RawChunk, LoadError>>(4);
+        let (tx, rx) = sync_channel::<Result<Filed, LoadError>>(2);
         scope.spawn(move || {
             for p in paths {
                 let mut reader = match io::open(p) {
@@ -264,30 +345,23 @@ fn spill_inputs(
                     }
                 };
                 loop {
-                    let item = reader.next_raw(READ_CHUNK).transpose();
+                    let item = reader.next_raw(read_points).transpose();
                     let Some(item) = item else { break };
                     let failed = item.is_err();
+                    let item = item.map(|c| file_chunk(&c, layout, q, cube, depth));
                     if tx.send(item).is_err() || failed {
                         return;
                     }
                 }
             }
         });
-        let mut record = Vec::with_capacity(layout.len);
-        for chunk in rx {
-            let chunk = chunk?;
-            let has_gps = chunk.gps_time.is_some();
-            for (i, p) in chunk.positions.iter().enumerate() {
-                let Some(xyz) = io::usable(*p).then(|| q.ints(*p)).flatten() else {
-                    tally.dropped += 1;
-                    continue;
-                };
-                record.clear();
-                layout.push(&mut record, xyz, &fields(&chunk, i));
-                tally.add(xyz, &record, has_gps);
-                spill.push(cube.key_at(depth, *p), &record)?;
+        for filed in rx {
+            let filed = filed?;
+            tally.merge(&filed.tally);
+            for (key, records) in &filed.groups {
+                spill.push_many(*key, records)?;
             }
-            progress.inc(chunk.positions.len() as u64);
+            progress.inc(filed.read);
         }
         Ok::<(), IndexError>(())
     })?;

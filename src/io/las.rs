@@ -100,13 +100,13 @@ fn check_evlr(
 
 /// The raw header, checked: version 1.0–1.4, an extended VLR that fits, and (with
 /// `check_points`) point records that fit in the file and a sound LAZ chunk table. Leaves
-/// `read` at the start of the file.
+/// `read` at the start of the file. Also says how its LAZ chunks may be decoded.
 fn checked_raw_header(
     path: &Path,
     read: &mut BufReader<File>,
     file_len: u64,
     check_points: bool,
-) -> Result<las::raw::Header, LoadError> {
+) -> Result<(las::raw::Header, laz_chunks::Decoding), LoadError> {
     // The raw header gives the byte layout the parsed header hides; check it before the
     // las crate seeks around a file that may be cut short.
     let raw = las::raw::Header::read_from(&mut *read).map_err(|e| header_error(path, e))?;
@@ -131,6 +131,7 @@ fn checked_raw_header(
     if let Some(evlr) = raw.evlr {
         check_evlr(path, read, file_len, evlr.start_of_first_evlr)?;
     }
+    let mut decoding = laz_chunks::Decoding::Sequential;
     if check_points && raw.point_data_record_format & 0xC0 != 0 {
         let layout = laz_chunks::Layout {
             file_len,
@@ -143,11 +144,11 @@ fn checked_raw_header(
                 .max(u64::from(raw.number_of_point_records)),
             record_length: raw.point_data_record_length,
         };
-        laz_chunks::check(path, read, &layout)?;
+        decoding = laz_chunks::check(path, read, &layout)?;
     }
     read.seek(SeekFrom::Start(0))
         .map_err(|e| LoadError::from_io(path, e))?;
-    Ok(raw)
+    Ok((raw, decoding))
 }
 
 /// `(declared, whole records the file's bytes hold)` for an uncompressed file; `None` for
@@ -200,6 +201,10 @@ fn point_count_error(
     }
 }
 
+fn laz_options(parallelism: las::LazParallelism) -> las::ReaderOptions {
+    las::ReaderOptions::default().with_laz_parallelism(parallelism)
+}
+
 fn open_file(path: &Path) -> Result<(BufReader<File>, u64), LoadError> {
     let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
     let file_len = file
@@ -214,7 +219,7 @@ fn open_file(path: &Path) -> Result<(BufReader<File>, u64), LoadError> {
 /// ([`FileInfo::records_in_file`] then says how many records it holds).
 pub(crate) fn header_info(path: &Path) -> Result<FileInfo, LoadError> {
     let (mut read, file_len) = open_file(path)?;
-    let raw = checked_raw_header(path, &mut read, file_len, false)?;
+    let (raw, _) = checked_raw_header(path, &mut read, file_len, false)?;
     let records = records_in_file(&raw, file_len).map(|(_, available)| available);
     let header = guarded(path, "reading the header", || {
         las::Header::new(&mut read).map_err(|e| point_count_error(path, &raw, file_len, e))
@@ -343,12 +348,17 @@ fn geotiff_crs(header: &las::Header) -> Option<Crs> {
 /// the declared points fit in the file.
 pub(crate) fn open(path: &Path) -> Result<(FileInfo, LasSource), LoadError> {
     let (mut read, file_len) = open_file(path)?;
-    let raw = checked_raw_header(path, &mut read, file_len, true)?;
+    let (raw, decoding) = checked_raw_header(path, &mut read, file_len, true)?;
     let record_len = u64::from(raw.point_data_record_length);
     let records = records_in_file(&raw, file_len).map(|(_, available)| available);
 
     let reader = guarded(path, "reading the header", || {
-        las::Reader::new(read).map_err(|e| header_error(path, e))
+        // LAZ chunks decode in parallel where the chunk table agrees with the file.
+        let parallelism = match decoding {
+            laz_chunks::Decoding::Parallel => las::LazParallelism::Yes,
+            laz_chunks::Decoding::Sequential => las::LazParallelism::No,
+        };
+        las::Reader::with_options(read, laz_options(parallelism)).map_err(|e| header_error(path, e))
     })?;
     let header = reader.header();
     let declared = header.number_of_points();

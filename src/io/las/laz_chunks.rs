@@ -58,8 +58,22 @@ struct LaszipVlr {
     items: Vec<(u16, u16, u16)>,
 }
 
+/// How a checked LAZ file's chunks may be decoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(in crate::io) enum Decoding {
+    /// Several chunks at once: the chunk table's sizes agree with the file.
+    Parallel,
+    /// One chunk after another: no chunk table, or one `laz`'s parallel decoder must not
+    /// trust (it sizes its buffers from the table's entries before reading).
+    Sequential,
+}
+
+/// Most bytes one decoded chunk may take for the parallel decoder (which holds a chunk
+/// whole): larger chunks are decoded sequentially.
+const MAX_PARALLEL_CHUNK_BYTES: u64 = 256 << 20;
+
 /// Checks the chunk table's entry count and, for layered files, every chunk's layer sizes
-/// the decoder will read.
+/// the decoder will read; says whether the chunks may be decoded in parallel.
 ///
 /// # Errors
 /// [`LoadError::CorruptPoints`] naming the chunk and its byte offset when a size in the file
@@ -68,7 +82,7 @@ pub(super) fn check<R: Read + Seek>(
     path: &Path,
     read: &mut R,
     layout: &Layout,
-) -> Result<(), LoadError> {
+) -> Result<Decoding, LoadError> {
     let mut bytes = ByteReader {
         path,
         read,
@@ -76,7 +90,7 @@ pub(super) fn check<R: Read + Seek>(
     };
     let Some(vlr) = find_laszip_vlr(&mut bytes, layout)? else {
         // The las crate reports the missing VLR itself.
-        return Ok(());
+        return Ok(Decoding::Sequential);
     };
     // A VLR without items still has its chunk table read (found by fuzzing: a table entry
     // count of 3 billion with no items, a 47 GB `Vec::with_capacity`).
@@ -93,21 +107,76 @@ pub(super) fn check<R: Read + Seek>(
         (_, n) => Some(u64::from(n)),
     };
     let mut data_start = layout.offset_to_point_data;
+    let mut decoding = Decoding::Sequential;
     if matches!(vlr.compressor, POINT_WISE_CHUNKED | LAYERED_CHUNKED) {
         let record = first_point_bytes(&vlr.items).max(1);
-        check_chunk_table(&mut bytes, layout, record, per_chunk).map_err(corrupt)?;
+        let table = check_chunk_table(&mut bytes, layout, record, per_chunk).map_err(corrupt)?;
+        if let Some(table) = table {
+            decoding = parallel_decoding(&mut bytes, layout, &vlr, table, per_chunk)?;
+        }
         // The chunk table's offset precedes the chunks.
         data_start += 8;
     } else if vlr.compressor != POINT_WISE {
-        return Ok(());
+        return Ok(Decoding::Sequential);
     }
     if matches!(first_version, Some(3 | 4)) {
         let Some(shape) = layered_shape(&vlr.items) else {
-            return Ok(()); // laz rejects these items itself
+            return Ok(Decoding::Sequential); // laz rejects these items itself
         };
         check_layers(&mut bytes, layout, &shape, data_start, per_chunk).map_err(corrupt)?;
     }
-    Ok(())
+    Ok(decoding)
+}
+
+/// Whether `laz`'s parallel decoder may read the file whose (count-checked) chunk table
+/// starts at byte `table`: it reads every chunk's byte count, and for variable chunks its
+/// point count, and allocates them before decoding. They must add up to what the file holds
+/// (the chunks lie between the table's offset and the table) and to the declared points, and
+/// a chunk must decode into at most [`MAX_PARALLEL_CHUNK_BYTES`]. Any other file is decoded
+/// sequentially, which reads the chunks as it goes.
+fn parallel_decoding<R: Read + Seek>(
+    bytes: &mut ByteReader<'_, R>,
+    layout: &Layout,
+    vlr: &LaszipVlr,
+    table: u64,
+    per_chunk: Option<u64>,
+) -> Result<Decoding, LoadError> {
+    let point_bytes = u64::from(layout.record_length).max(1);
+    if per_chunk.is_some_and(|n| n.saturating_mul(point_bytes) > MAX_PARALLEL_CHUNK_BYTES) {
+        return Ok(Decoding::Sequential);
+    }
+    let variable = vlr.chunk_size == 0 || vlr.chunk_size == VARIABLE_CHUNK_SIZE;
+    bytes
+        .read
+        .seek(SeekFrom::Start(table))
+        .map_err(|e| LoadError::from_io(bytes.path, e))?;
+    let Ok(entries) = laz::laszip::ChunkTable::read(&mut bytes.read, variable) else {
+        return Ok(Decoding::Sequential); // the decoder reports a table it cannot read
+    };
+    let entries = entries.as_ref();
+    let chunk_bytes: u64 = entries
+        .iter()
+        .map(|e| e.byte_count)
+        .fold(0, u64::saturating_add);
+    let room = table.saturating_sub(layout.offset_to_point_data + 8);
+    let points_fit = if variable {
+        let total: u64 = entries
+            .iter()
+            .map(|e| e.point_count)
+            .fold(0, u64::saturating_add);
+        let largest = entries.iter().map(|e| e.point_count).max().unwrap_or(0);
+        total == layout.declared_points
+            && largest.saturating_mul(point_bytes) <= MAX_PARALLEL_CHUNK_BYTES
+    } else {
+        true
+    };
+    Ok(
+        if !entries.is_empty() && chunk_bytes <= room && points_fit {
+            Decoding::Parallel
+        } else {
+            Decoding::Sequential
+        },
+    )
 }
 
 /// The layered chunk shape of a COPC file's nodes (from its LASzip VLR), for
@@ -352,7 +421,7 @@ fn check_chunk_table<R: Read + Seek>(
     layout: &Layout,
     record: u64,
     per_chunk: Option<u64>,
-) -> Result<(), String> {
+) -> Result<Option<u64>, String> {
     let io = |e: LoadError| e.to_string();
     let start = layout.offset_to_point_data;
     let past_start = |t: Option<i64>| t.filter(|&t| t > start as i64).map(|t| t as u64);
@@ -362,7 +431,7 @@ fn check_chunk_table<R: Read + Seek>(
         table = past_start(bytes.i64(last).map_err(io)?);
     }
     let Some(table) = table else {
-        return Ok(()); // no table: laz fails with an error or reads without one
+        return Ok(None); // no table: laz fails with an error or reads without one
     };
     if table.saturating_add(8) > layout.file_len {
         // laz then reads the chunks from wherever its failed seek or read left the file
@@ -375,7 +444,7 @@ fn check_chunk_table<R: Read + Seek>(
         ));
     }
     let Some(count) = bytes.u32(table + 4).map_err(io)? else {
-        return Ok(()); // laz fails reading it
+        return Ok(None); // laz fails reading it
     };
     let room = table.saturating_sub(start + 8) / record;
     if u64::from(count) > room {
@@ -394,7 +463,7 @@ fn check_chunk_table<R: Read + Seek>(
             ));
         }
     }
-    Ok(())
+    Ok(Some(table))
 }
 
 /// Walks the layered chunks from `data_start` in the decoder's order, while it still needs
@@ -457,5 +526,65 @@ mod tests {
         assert_eq!(shape.first_point, 30 + 8 + 3);
         assert_eq!(shape.layers, 9 + 2 + 3);
         assert!(layered_shape(&[(6, 20, 2)]).is_none());
+    }
+
+    /// A LAZ file of `n` points in chunks of 50,000 (the las crate's default), format 7.
+    fn written_laz(path: &std::path::Path, n: u32) {
+        let mut builder = las::Builder::from((1, 4));
+        builder.point_format = las::point::Format::new(7).unwrap();
+        builder.point_format.is_compressed = true;
+        let header = builder.into_header().unwrap();
+        let mut writer = las::Writer::from_path(path, header).unwrap();
+        for i in 0..n {
+            let f = f64::from(i);
+            writer
+                .write_point(las::Point {
+                    x: (f * 0.37).sin() * 100.0,
+                    y: (f * 0.011).cos() * 50.0,
+                    z: f * 0.001,
+                    intensity: (i % 65_536) as u16,
+                    gps_time: Some(f * 1e-3),
+                    color: Some(las::Color::new(i as u16, (i * 7) as u16, 3)),
+                    ..Default::default()
+                })
+                .unwrap();
+        }
+        writer.close().unwrap();
+    }
+
+    #[test]
+    fn chunked_laz_decodes_in_parallel_to_the_same_points() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("chunks.laz");
+        written_laz(&path, 123_457);
+        let (mut read, file_len) = super::super::open_file(&path).unwrap();
+        let (_, decoding) = super::super::checked_raw_header(&path, &mut read, file_len, true)
+            .expect("a sound file");
+        assert_eq!(decoding, Decoding::Parallel);
+
+        let (_, mut source) = super::super::open(&path).unwrap();
+        let mut ours = Vec::new();
+        // Reads that start and stop inside chunks.
+        while let Some(c) = source.next_raw(70_001).unwrap() {
+            ours.extend(
+                c.positions
+                    .iter()
+                    .zip(c.gps_time.unwrap())
+                    .map(|(p, t)| (*p, t)),
+            );
+        }
+        let options = las::ReaderOptions::default().with_laz_parallelism(las::LazParallelism::No);
+        let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
+        let mut reader = las::Reader::with_options(file, options).unwrap();
+        let all = reader.read_all().unwrap();
+        let theirs: Vec<_> = all
+            .x()
+            .zip(all.y())
+            .zip(all.z())
+            .zip(all.gps_time().unwrap())
+            .map(|(((x, y), z), t)| (glam::DVec3::new(x, y, z), t))
+            .collect();
+        assert_eq!(ours.len(), 123_457);
+        assert!(ours == theirs, "parallel decoding changed the points");
     }
 }
