@@ -9,6 +9,7 @@ use clap::Args;
 
 use crate::io::Up;
 use crate::io::e57::ScanSelection;
+use crate::prepare::lod::{self, PLAN_SURVEY_POINTS};
 use crate::prepare::{
     EyeHeight, LengthScale, LodChoice, PrepareOptions, RadiusChoice, Units, prepare,
 };
@@ -111,6 +112,37 @@ fn served_lod(
     })
 }
 
+/// The coarse levels of a COPC file of more than `budget` points, prepared,
+/// when every view of it is drawn through the level of detail (`--lod` on, radii stored or
+/// given): the map, the ground and the bounds need no more, and the rest need not be
+/// resident. The camera stands at the eye height of the file's full-detail spacing.
+fn survey(
+    args: &ServeArgs,
+    options: &PrepareOptions,
+    budget: u64,
+    pb: &indicatif::ProgressBar,
+) -> Result<Option<lod::Survey>> {
+    let info = crate::io::read_info(&args.file)?;
+    let radii_known = match options.radius {
+        None => info.attributes.radius,
+        Some(RadiusChoice::Fixed(_) | RadiusChoice::Auto) => true,
+        Some(RadiusChoice::Adaptive { .. }) => false,
+    };
+    if !matches!(args.lod, LodChoice::Pixels(_)) || !crate::io::is_copc(&info) || !radii_known {
+        return Ok(None);
+    }
+    let octree = crate::io::read_octree(&args.file)?;
+    if octree.point_count <= budget {
+        return Ok(None);
+    }
+    let detail = lod::detail_spacing(&args.file, &octree)?;
+    let options = PrepareOptions {
+        height: EyeHeight::new(Some(options.height.over(detail)), 1.0),
+        ..*options
+    };
+    Ok(lod::survey(&args.file, &options, budget, pb)?)
+}
+
 /// A camera height: finite, from 0 to 1000 m.
 fn eye_height(s: &str) -> Result<f64, String> {
     let v = crate::value::finite(s, "metres")?;
@@ -137,10 +169,26 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         ..PrepareOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "loading");
-    let prepared = prepare(&args.file, &options, &pb)?;
+    let surveyed = survey(args, &options, PLAN_SURVEY_POINTS, &pb)?;
+    let (prepared, spacing, points_total) = match surveyed {
+        Some(s) => (s.prepared, s.detail_spacing, Some(s.points_total)),
+        None => {
+            let prepared = prepare(&args.file, &options, &pb)?;
+            let spacing = crate::prepare::radius::median_spacing(&prepared.scene);
+            (prepared, spacing, None)
+        }
+    };
     pb.finish_and_clear();
     let say = |m: String| eprintln!("{m}");
     super::notes::say_load_notes(&args.file, &prepared.report, &say);
+    if let Some(total) = points_total {
+        say(format!(
+            "{}: the map, the ground and the bounds come from its coarse levels ({} of {total} \
+             points); every view is drawn through the level of detail",
+            args.file.display(),
+            prepared.scene.len()
+        ));
+    }
     let mut given = vec![("IPD", Stereo::DEFAULT_IPD)];
     if let Some(h) = args.height {
         given.push(("--height", h));
@@ -150,7 +198,7 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     let radius = prepared.radii.describe(&unit);
     let live = LiveOptions {
         width: args.width,
-        height: height.over(crate::prepare::radius::median_spacing(&prepared.scene)),
+        height: height.over(spacing),
         per_metre: scale.length(1.0),
         metres_per_unit: scale.metres_per_unit,
         color: args.color,
@@ -159,6 +207,9 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     };
     let lod = served_lod(args, &prepared, options.radius, &say);
     let mut scan = LiveScan::new(&args.file, prepared.scene, live)?;
+    if let Some(total) = points_total {
+        scan = scan.surveyed_from(total);
+    }
     if let Some(lod) = lod {
         say(format!(
             "{}: level of detail ({} px): each render reads the octree nodes it needs into a \
@@ -206,4 +257,60 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     server.serve();
     println!("omnicloud serve: stopped");
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        serve: ServeArgs,
+    }
+
+    fn args(extra: &[&str]) -> ServeArgs {
+        let file = concat!(env!("CARGO_MANIFEST_DIR"), "/data/courtyard.copc.laz");
+        let mut argv = vec!["serve", file];
+        argv.extend_from_slice(extra);
+        Cli::try_parse_from(argv).unwrap().serve
+    }
+
+    fn options(radius: Option<RadiusChoice>) -> PrepareOptions {
+        PrepareOptions {
+            camera: crate::prepare::CameraChoice::Auto,
+            radius,
+            ..PrepareOptions::default()
+        }
+    }
+
+    #[test]
+    fn a_copc_file_over_the_budget_is_served_from_its_coarse_levels() {
+        let pb = indicatif::ProgressBar::hidden();
+        let budget = 100_000;
+        let auto = Some(RadiusChoice::Auto);
+        let s = survey(&args(&[]), &options(auto), budget, &pb)
+            .unwrap()
+            .expect("431,121 points are over the budget");
+        assert_eq!(s.points_total, 431_121);
+        let held = s.prepared.scene.len() as u64;
+        assert!(held <= budget && held > budget / 8, "{held} points held");
+        // Within the budget, with `--lod off`, or with radii measured on every point: whole.
+        assert!(
+            survey(&args(&[]), &options(auto), 431_121, &pb)
+                .unwrap()
+                .is_none()
+        );
+        assert!(
+            survey(&args(&["--lod", "off"]), &options(auto), budget, &pb)
+                .unwrap()
+                .is_none()
+        );
+        assert!(
+            survey(&args(&[]), &options(None), budget, &pb)
+                .unwrap()
+                .is_none()
+        );
+    }
 }

@@ -441,8 +441,15 @@ pub fn open_nodes_stopping(
         info,
         source: Source::Copc(Box::new(CopcSource {
             path: path.to_path_buf(),
+            chunks: File::open(path)
+                .map(BufReader::new)
+                .map_err(|e| LoadError::from_io(path, e))?,
+            file_len: std::fs::metadata(path)
+                .map_err(|e| LoadError::from_io(path, e))?
+                .len(),
             reader,
             pending: entries.into(),
+            ready: VecDeque::new(),
             read: 0,
             broken: false,
             radius_at,
@@ -498,11 +505,24 @@ fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
     Ok(())
 }
 
-/// Streams the points of chosen nodes, a node per chunk.
+/// Decoded bytes of the nodes decoded together, at most.
+const BATCH_BYTES: usize = 32 << 20;
+/// Nodes decoded together, at most, per thread.
+const BATCH_PER_THREAD: usize = 4;
+
+/// Streams the points of chosen nodes, a node per chunk. Nodes are decoded several at once
+/// on every core (each node is one independent LAZ chunk) and handed out in order.
 pub(crate) struct CopcSource {
     path: PathBuf,
+    /// The file, for the compressed bytes of a batch of nodes.
+    chunks: BufReader<File>,
+    file_len: u64,
+    /// The sequential decoder: a lone or oversized node, and a batch that failed (to name
+    /// the node that did).
     reader: Reader,
     pending: VecDeque<Entry>,
+    /// Nodes decoded ahead, in order.
+    ready: VecDeque<las::PointData>,
     read: u64,
     /// Set after the decoder panicked: its state is unknown.
     broken: bool,
@@ -519,14 +539,102 @@ impl CopcSource {
         if self.broken {
             return Ok(None);
         }
+        if self.ready.is_empty() {
+            self.decode_batch();
+        }
         let Some(entry) = self.pending.pop_front() else {
             return Ok(None);
         };
+        let data = match self.ready.pop_front() {
+            Some(data) => data,
+            None => self.decode_one(&entry)?,
+        };
+        self.read += data.len() as u64;
+        let at = match self.lod_radius_at {
+            Some(at) if self.stopped.contains(&entry.key) => Some(at),
+            _ => self.radius_at,
+        };
+        Ok(Some(super::las::raw_chunk(&data, at)))
+    }
+
+    /// Decodes the next nodes of `pending` together into `ready` (leaving them pending),
+    /// when there are several that fit [`BATCH_BYTES`]; leaves `ready` empty when there are
+    /// not, or when any of them fails (the sequential decoder then names it).
+    fn decode_batch(&mut self) {
+        let record_len = usize::from(self.reader.header().point_format().len());
+        let most = rayon::current_num_threads().max(1) * BATCH_PER_THREAD;
+        let mut bytes = 0usize;
+        let mut batch = 0usize;
+        for entry in self.pending.iter().take(most) {
+            let n = usize::try_from(entry.point_count).unwrap_or(usize::MAX);
+            let size = n.saturating_mul(record_len);
+            let fits = entry.byte_size > 0
+                && entry.offset.saturating_add(entry.byte_size as u64) <= self.file_len;
+            if !fits || bytes.saturating_add(size) > BATCH_BYTES {
+                break;
+            }
+            bytes += size;
+            batch += 1;
+        }
+        if batch < 2 {
+            return;
+        }
+        let Ok(vlr) = self.reader.header().laz_vlr() else {
+            return;
+        };
+        let entries: Vec<Entry> = self.pending.iter().take(batch).cloned().collect();
+        let mut compressed = Vec::new();
+        let mut table = Vec::with_capacity(batch);
+        for entry in &entries {
+            use std::io::{Read, Seek, SeekFrom};
+            let size = entry.byte_size as usize;
+            let at = compressed.len();
+            compressed.resize(at + size, 0);
+            let read = self
+                .chunks
+                .seek(SeekFrom::Start(entry.offset))
+                .and_then(|_| self.chunks.read_exact(&mut compressed[at..]));
+            if read.is_err() {
+                return;
+            }
+            table.push(laz::laszip::ChunkTableEntry {
+                point_count: entry.point_count as u64,
+                byte_count: size as u64,
+            });
+        }
+        let mut decoded = vec![0u8; bytes];
+        let done = guarded(&self.path, "decoding COPC nodes", || {
+            laz::par_decompress(&compressed, &mut decoded, &vlr, &table)
+                .map_err(|e| corrupt(&self.path, e.to_string()))
+        });
+        if done.is_err() {
+            return;
+        }
+        let header = self.reader.header();
+        let mut at = 0;
+        for entry in &entries {
+            let size = entry.point_count as usize * record_len;
+            let node = las::PointDataBuilder::new()
+                .for_header(header)
+                .build_from_bytes(decoded[at..at + size].to_vec());
+            at += size;
+            match node {
+                Ok(node) => self.ready.push_back(node),
+                Err(_) => {
+                    self.ready.clear();
+                    return;
+                }
+            }
+        }
+    }
+
+    /// Decodes the node `entry` alone.
+    fn decode_one(&mut self, entry: &Entry) -> Result<las::PointData, LoadError> {
         let (path, read, reader) = (&self.path, self.read, &mut self.reader);
         let declared = reader.header().number_of_points();
         let data = guarded(path, "decoding a COPC node", || {
             reader
-                .read_entry(&entry)
+                .read_entry(entry)
                 .map_err(|e| LoadError::CorruptPoints {
                     path: path.clone(),
                     read,
@@ -538,12 +646,7 @@ impl CopcSource {
                 })
         })
         .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
-        self.read += data.len() as u64;
-        let at = match self.lod_radius_at {
-            Some(at) if self.stopped.contains(&entry.key) => Some(at),
-            _ => self.radius_at,
-        };
-        Ok(Some(super::las::raw_chunk(&data, at)))
+        Ok(data)
     }
 
     pub(crate) fn seek_unsupported(&self, point: u64) -> LoadError {

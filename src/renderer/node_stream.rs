@@ -10,6 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use indicatif::ProgressBar;
+use rayon::prelude::*;
 
 use super::anchor::Anchor;
 use super::error::ResidentError;
@@ -21,6 +22,9 @@ use crate::projection::Camera;
 use crate::raster::{Rasterizer, UploadedScene};
 use crate::render::{ColorRule, RenderSettings};
 use crate::stream::node_cache::{CacheCounts, NodeCache};
+
+/// Nodes read at once per thread when a frame needs nodes not on the GPU.
+const NODES_PER_THREAD: usize = 4;
 
 /// A cached node: its key and whether refinement stopped at it (its radii differ then).
 type NodeId = (NodeKey, bool);
@@ -224,21 +228,34 @@ impl NodeStream {
         // Nodes held are marked used first, so that the new ones, held once drawn, evict
         // older frames' nodes rather than this one's.
         let mut fresh: Vec<(NodeId, UploadedScene)> = Vec::new();
-        for key in &selection.read {
-            let id = (*key, selection.nodes[key]);
-            if self.cache.get(&id).is_none() {
-                let scene = lod::node_scene(
-                    &self.path,
-                    &self.octree,
-                    *key,
-                    id.1,
-                    &self.options,
-                    self.radii,
-                )?;
+        let missing: Vec<NodeId> = selection
+            .read
+            .iter()
+            .map(|key| (*key, selection.nodes[key]))
+            .filter(|id| self.cache.get(id).is_none())
+            .collect();
+        // Nodes are read a few per thread at a time, in parallel (each is its own LAZ
+        // chunk), and uploaded before the next few: host memory holds a batch, not a frame.
+        let batch = rayon::current_num_threads().max(1) * NODES_PER_THREAD;
+        for ids in missing.chunks(batch) {
+            let scenes: Vec<_> = ids
+                .par_iter()
+                .map(|id| {
+                    lod::node_scene(
+                        &self.path,
+                        &self.octree,
+                        id.0,
+                        id.1,
+                        &self.options,
+                        self.radii,
+                    )
+                })
+                .collect();
+            for (id, scene) in ids.iter().zip(scenes) {
                 let node = self
                     .rasterizer
-                    .upload_colored(&scene, &self.upload, self.color)?;
-                fresh.push((id, node));
+                    .upload_colored(&scene?, &self.upload, self.color)?;
+                fresh.push((*id, node));
             }
         }
         if !fresh.is_empty() {

@@ -96,7 +96,7 @@ pub struct LiveScan {
 pub struct ScanInfo {
     /// The scan's file name.
     pub file: String,
-    /// Points held.
+    /// Points in the scan.
     pub points: usize,
     /// Lowest corner of the points' bounds.
     pub min: [f64; 3],
@@ -170,6 +170,15 @@ impl LiveScan {
             info,
             lod: None,
         })
+    }
+
+    /// This scan read from the coarse levels of a file of `points` points (its map, ground
+    /// and bounds come from them; views are drawn through [`with_lod`](Self::with_lod), and
+    /// a ray tracer would trace only the points held).
+    #[must_use]
+    pub fn surveyed_from(mut self, points: u64) -> Self {
+        self.info.points = usize::try_from(points).unwrap_or(usize::MAX);
+        self
     }
 
     /// This scan rendered through its level of detail as `lod` says (by the rasterizer;
