@@ -112,35 +112,26 @@ fn served_lod(
     })
 }
 
-/// The coarse levels of a COPC file of more than `budget` points, prepared,
-/// when every view of it is drawn through the level of detail (`--lod` on, radii stored or
-/// given): the map, the ground and the bounds need no more, and the rest need not be
-/// resident. The camera stands at the eye height of the file's full-detail spacing.
+/// The coarse levels of the COPC file `args.file` (described by `info`) of more than
+/// `budget` points, prepared ([`lod::survey`]), when every view of it is drawn through the
+/// level of detail (`--lod` on, radii stored or given): the map, the ground and the bounds
+/// need no more, and the rest need not be resident.
 fn survey(
     args: &ServeArgs,
+    info: &crate::io::FileInfo,
     options: &PrepareOptions,
     budget: u64,
     pb: &indicatif::ProgressBar,
 ) -> Result<Option<lod::Survey>> {
-    let info = crate::io::read_info(&args.file)?;
     let radii_known = match options.radius {
         None => info.attributes.radius,
         Some(RadiusChoice::Fixed(_) | RadiusChoice::Auto) => true,
         Some(RadiusChoice::Adaptive { .. }) => false,
     };
-    if !matches!(args.lod, LodChoice::Pixels(_)) || !crate::io::is_copc(&info) || !radii_known {
+    if !matches!(args.lod, LodChoice::Pixels(_)) || !radii_known {
         return Ok(None);
     }
-    let octree = crate::io::read_octree(&args.file)?;
-    if octree.point_count <= budget {
-        return Ok(None);
-    }
-    let detail = lod::detail_spacing(&args.file, &octree)?;
-    let options = PrepareOptions {
-        height: EyeHeight::new(Some(options.height.over(detail)), 1.0),
-        ..*options
-    };
-    Ok(lod::survey(&args.file, &options, budget, pb)?)
+    Ok(lod::survey(&args.file, options, budget, pb)?)
 }
 
 /// A camera height: finite, from 0 to 1000 m.
@@ -158,7 +149,8 @@ fn eye_height(s: &str) -> Result<f64, String> {
 /// Serves `args.file` until Ctrl-C.
 pub fn run(args: &ServeArgs) -> Result<()> {
     let started = Instant::now();
-    let scale = LengthScale::for_info(&crate::io::read_info(&args.file)?, args.units, args.up);
+    let info = crate::io::read_info(&args.file)?;
+    let scale = LengthScale::for_info(&info, args.units, args.up);
     let height = EyeHeight::new(args.height.map(|h| scale.height(h)), scale.height(1.0));
     let options = PrepareOptions {
         // The page starts where `render`'s automatic camera stands.
@@ -169,7 +161,7 @@ pub fn run(args: &ServeArgs) -> Result<()> {
         ..PrepareOptions::default()
     };
     let pb = progress::bar(args.quiet, 0, "loading");
-    let surveyed = survey(args, &options, PLAN_SURVEY_POINTS, &pb)?;
+    let surveyed = survey(args, &info, &options, PLAN_SURVEY_POINTS, &pb)?;
     let (prepared, spacing, points_total) = match surveyed {
         Some(s) => (s.prepared, s.detail_spacing, Some(s.points_total)),
         None => {
@@ -270,6 +262,10 @@ mod tests {
         serve: ServeArgs,
     }
 
+    fn info() -> crate::io::FileInfo {
+        crate::io::read_info(&args(&[]).file).unwrap()
+    }
+
     fn args(extra: &[&str]) -> ServeArgs {
         let file = concat!(env!("CARGO_MANIFEST_DIR"), "/data/courtyard.copc.laz");
         let mut argv = vec!["serve", file];
@@ -290,7 +286,7 @@ mod tests {
         let pb = indicatif::ProgressBar::hidden();
         let budget = 100_000;
         let auto = Some(RadiusChoice::Auto);
-        let s = survey(&args(&[]), &options(auto), budget, &pb)
+        let s = survey(&args(&[]), &info(), &options(auto), budget, &pb)
             .unwrap()
             .expect("431,121 points are over the budget");
         assert_eq!(s.points_total, 431_121);
@@ -298,17 +294,23 @@ mod tests {
         assert!(held <= budget && held > budget / 8, "{held} points held");
         // Within the budget, with `--lod off`, or with radii measured on every point: whole.
         assert!(
-            survey(&args(&[]), &options(auto), 431_121, &pb)
+            survey(&args(&[]), &info(), &options(auto), 431_121, &pb)
                 .unwrap()
                 .is_none()
         );
         assert!(
-            survey(&args(&["--lod", "off"]), &options(auto), budget, &pb)
-                .unwrap()
-                .is_none()
+            survey(
+                &args(&["--lod", "off"]),
+                &info(),
+                &options(auto),
+                budget,
+                &pb
+            )
+            .unwrap()
+            .is_none()
         );
         assert!(
-            survey(&args(&[]), &options(None), budget, &pb)
+            survey(&args(&[]), &info(), &options(None), budget, &pb)
                 .unwrap()
                 .is_none()
         );

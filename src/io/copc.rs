@@ -436,17 +436,13 @@ pub fn open_nodes_stopping(
         }
     }
     entries.sort_by_key(|e| e.offset);
-    check_node_chunks(path, &entries)?;
+    let (chunks, file_len) = check_node_chunks(path, &entries)?;
     Ok(PointReader {
         info,
         source: Source::Copc(Box::new(CopcSource {
             path: path.to_path_buf(),
-            chunks: File::open(path)
-                .map(BufReader::new)
-                .map_err(|e| LoadError::from_io(path, e))?,
-            file_len: std::fs::metadata(path)
-                .map_err(|e| LoadError::from_io(path, e))?
-                .len(),
+            chunks,
+            file_len,
             reader,
             pending: entries.into(),
             ready: VecDeque::new(),
@@ -459,11 +455,11 @@ pub fn open_nodes_stopping(
     })
 }
 
-/// The file's LASzip VLR, checked against its header ([`NodeChunks::new`]), and the file
-/// opened for reading its chunks.
+/// The file's LASzip VLR, checked against its header ([`NodeChunks::new`]), the file opened
+/// for reading its chunks, and its length.
 fn node_chunks(
     path: &Path,
-) -> Result<(super::las::laz_chunks::NodeChunks, BufReader<File>), LoadError> {
+) -> Result<(super::las::laz_chunks::NodeChunks, BufReader<File>, u64), LoadError> {
     use super::las::laz_chunks::{self, Layout, NodeChunks};
     let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
     let file_len = file
@@ -481,15 +477,13 @@ fn node_chunks(
         record_length: raw.point_data_record_length,
     };
     let chunks = NodeChunks::new(path, &mut read, &layout)?;
-    Ok((chunks, read))
+    Ok((chunks, read, file_len))
 }
 
-/// Checks the layer sizes of the chunks of `entries` before the decoder reads them.
-fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
-    if entries.is_empty() {
-        return Ok(());
-    }
-    let (chunks, mut read) = node_chunks(path)?;
+/// Checks the layer sizes of the chunks of `entries` before the decoder reads them; returns
+/// the file opened for reading them, and its length.
+fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(BufReader<File>, u64), LoadError> {
+    let (chunks, mut read, file_len) = node_chunks(path)?;
     for entry in entries {
         let size = u64::try_from(entry.byte_size).unwrap_or(0);
         chunks
@@ -502,7 +496,7 @@ fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(), LoadError> {
                 )
             })?;
     }
-    Ok(())
+    Ok((read, file_len))
 }
 
 /// Decoded bytes of the nodes decoded together, at most.

@@ -24,7 +24,7 @@ use indicatif::ProgressBar;
 
 use super::filter::Stage;
 use super::radius::{self, RadiusChoice, RadiusRule};
-use super::{PrepareError, PrepareOptions, placement};
+use super::{CameraChoice, EyeHeight, PrepareError, PrepareOptions, placement};
 use crate::io::{
     self, FileInfo, LoadError, LoadOptions, LoadReport, NodeKey, Octree, Up, load_files_with_reader,
 };
@@ -279,7 +279,8 @@ pub struct Survey {
 /// ([`coarse_nodes`]) and prepares them with `options` (its `lod` does not apply). `None`
 /// when `path` is not COPC or holds no more than `budget` points: read it whole. Radii a
 /// survey does not need are not measured: a neighbour-searched radius becomes the auto
-/// radius of the full-detail spacing, as a node stream draws it.
+/// radius of the full-detail spacing, as a node stream draws it. An automatic camera stands
+/// at the eye height of the full-detail spacing, as it would over every point.
 ///
 /// # Errors
 /// A [`LoadError`] naming the file, or a filter's error.
@@ -316,10 +317,17 @@ pub fn survey(
         Some(RadiusChoice::Fixed(r)) => Some(RadiusChoice::Fixed(r)),
         _ => Some(RadiusChoice::Fixed(radius::radius_for_spacing(detail))),
     };
+    // The automatic camera's height rule counts point spacings: those of full detail, not
+    // the survey's coarser ones.
+    let height = match options.camera {
+        CameraChoice::Auto => EyeHeight::new(Some(options.height.over(detail)), 1.0),
+        _ => options.height,
+    };
     let prepared = super::prepare_scene(
         scene,
         &PrepareOptions {
             radius,
+            height,
             lod: Lod::Off,
             ..*options
         },

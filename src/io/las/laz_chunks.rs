@@ -112,7 +112,7 @@ pub(super) fn check<R: Read + Seek>(
         let record = first_point_bytes(&vlr.items).max(1);
         let table = check_chunk_table(&mut bytes, layout, record, per_chunk).map_err(corrupt)?;
         if let Some(table) = table {
-            decoding = parallel_decoding(&mut bytes, layout, &vlr, table, per_chunk)?;
+            decoding = parallel_decoding(&mut bytes, layout, table, per_chunk)?;
         }
         // The chunk table's offset precedes the chunks.
         data_start += 8;
@@ -137,7 +137,6 @@ pub(super) fn check<R: Read + Seek>(
 fn parallel_decoding<R: Read + Seek>(
     bytes: &mut ByteReader<'_, R>,
     layout: &Layout,
-    vlr: &LaszipVlr,
     table: u64,
     per_chunk: Option<u64>,
 ) -> Result<Decoding, LoadError> {
@@ -145,7 +144,8 @@ fn parallel_decoding<R: Read + Seek>(
     if per_chunk.is_some_and(|n| n.saturating_mul(point_bytes) > MAX_PARALLEL_CHUNK_BYTES) {
         return Ok(Decoding::Sequential);
     }
-    let variable = vlr.chunk_size == 0 || vlr.chunk_size == VARIABLE_CHUNK_SIZE;
+    // Chunked files without a fixed chunk size store each chunk's point count in the table.
+    let variable = per_chunk.is_none();
     bytes
         .read
         .seek(SeekFrom::Start(table))
