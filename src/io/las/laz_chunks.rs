@@ -63,8 +63,8 @@ struct LaszipVlr {
 pub(in crate::io) enum Decoding {
     /// Several chunks at once: the chunk table's sizes agree with the file.
     Parallel,
-    /// One chunk after another: no chunk table, or one `laz`'s parallel decoder must not
-    /// trust (it sizes its buffers from the table's entries before reading).
+    /// One chunk after another: no chunk table, variable-size chunks, or a table `laz`'s
+    /// parallel decoder must not trust (it sizes its buffers from its entries before reading).
     Sequential,
 }
 
@@ -129,11 +129,14 @@ pub(super) fn check<R: Read + Seek>(
 }
 
 /// Whether `laz`'s parallel decoder may read the file whose (count-checked) chunk table
-/// starts at byte `table`: it reads every chunk's byte count, and for variable chunks its
-/// point count, and allocates them before decoding. They must add up to what the file holds
-/// (the chunks lie between the table's offset and the table) and to the declared points, and
-/// a chunk must decode into at most [`MAX_PARALLEL_CHUNK_BYTES`]. Any other file is decoded
-/// sequentially, which reads the chunks as it goes.
+/// starts at byte `table`, chunks of `per_chunk` points: it reads every chunk's byte count
+/// and allocates it before decoding, so they must add up to what the file holds (the chunks
+/// lie between the table's offset and the table), and a chunk must decode into at most
+/// [`MAX_PARALLEL_CHUNK_BYTES`]. Files of variable-size chunks (COPC among them) are decoded
+/// sequentially: laz 0.13's parallel `seek` takes a point's place in its chunk as its index
+/// modulo the chunk size, which holds for fixed-size chunks only (with variable ones it
+/// underflowed in a seek into a COPC file). Any other file is decoded sequentially too,
+/// which reads the chunks as it goes.
 fn parallel_decoding<R: Read + Seek>(
     bytes: &mut ByteReader<'_, R>,
     layout: &Layout,
@@ -141,16 +144,17 @@ fn parallel_decoding<R: Read + Seek>(
     per_chunk: Option<u64>,
 ) -> Result<Decoding, LoadError> {
     let point_bytes = u64::from(layout.record_length).max(1);
-    if per_chunk.is_some_and(|n| n.saturating_mul(point_bytes) > MAX_PARALLEL_CHUNK_BYTES) {
+    let Some(per_chunk) = per_chunk else {
+        return Ok(Decoding::Sequential);
+    };
+    if per_chunk.saturating_mul(point_bytes) > MAX_PARALLEL_CHUNK_BYTES {
         return Ok(Decoding::Sequential);
     }
-    // Chunked files without a fixed chunk size store each chunk's point count in the table.
-    let variable = per_chunk.is_none();
     bytes
         .read
         .seek(SeekFrom::Start(table))
         .map_err(|e| LoadError::from_io(bytes.path, e))?;
-    let Ok(entries) = laz::laszip::ChunkTable::read(&mut bytes.read, variable) else {
+    let Ok(entries) = laz::laszip::ChunkTable::read(&mut bytes.read, false) else {
         return Ok(Decoding::Sequential); // the decoder reports a table it cannot read
     };
     let entries = entries.as_ref();
@@ -159,24 +163,11 @@ fn parallel_decoding<R: Read + Seek>(
         .map(|e| e.byte_count)
         .fold(0, u64::saturating_add);
     let room = table.saturating_sub(layout.offset_to_point_data + 8);
-    let points_fit = if variable {
-        let total: u64 = entries
-            .iter()
-            .map(|e| e.point_count)
-            .fold(0, u64::saturating_add);
-        let largest = entries.iter().map(|e| e.point_count).max().unwrap_or(0);
-        total == layout.declared_points
-            && largest.saturating_mul(point_bytes) <= MAX_PARALLEL_CHUNK_BYTES
+    Ok(if !entries.is_empty() && chunk_bytes <= room {
+        Decoding::Parallel
     } else {
-        true
-    };
-    Ok(
-        if !entries.is_empty() && chunk_bytes <= room && points_fit {
-            Decoding::Parallel
-        } else {
-            Decoding::Sequential
-        },
-    )
+        Decoding::Sequential
+    })
 }
 
 /// The layered chunk shape of a COPC file's nodes (from its LASzip VLR), for
@@ -586,5 +577,18 @@ mod tests {
             .collect();
         assert_eq!(ours.len(), 123_457);
         assert!(ours == theirs, "parallel decoding changed the points");
+    }
+
+    #[test]
+    fn variable_size_chunks_decode_sequentially() {
+        // A COPC file: one chunk per node, of variable size.
+        let path = std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/data/courtyard.copc.laz"
+        ));
+        let (mut read, file_len) = super::super::open_file(path).unwrap();
+        let (_, decoding) =
+            super::super::checked_raw_header(path, &mut read, file_len, true).unwrap();
+        assert_eq!(decoding, Decoding::Sequential);
     }
 }
