@@ -10,24 +10,41 @@
 // drawn. With the drawing code out of the splat's dispatch, frames on llvmpipe measured
 // faster. Both skip spheres hidden whole by nearer ones (occlusion.wgsl). An ODS pair's
 // first eye dispatches `expand_splat_pair` in place of `expand_splat`, for both eyes; each
-// eye then dispatches `expand_listed`.
+// eye then dispatches `expand_listed`. The pair splat leaves the spheres of more than
+// WIDE_PIXELS pixels to `splat_wide_pair`, dispatched indirectly before `expand_listed`,
+// which casts each with a workgroup: in one invocation a wide sphere would hold the other
+// lanes of its SIMD vector idle for its whole loop (on llvmpipe, 8 spheres a vector).
 
 // The eye's keys.
 @group(0) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
 @group(0) @binding(6) var<storage, read> colors: array<u32>;
 
-// The spheres left to draw, their count and point indices (up to a batch's points; the count
-// is cleared before each batch), and the indirect dispatch arguments of `expand_listed`
-// (cleared to (0, 1, 1)), bound to the splat's dispatch only.
+// The spheres left to draw, their count and point indices from the start, and the wide
+// spheres of a pair splat, their count and indices from the end (a batch's points in all; the
+// counts are cleared before each batch); and the indirect dispatch arguments of
+// `expand_listed` and `splat_wide_pair` (each cleared to (0, 1, 1)), bound to the splat's
+// dispatch only.
 struct ListedPoints {
     count: atomic<u32>,
+    wide: atomic<u32>,
     points: array<u32>,
 }
 struct ListedGroups {
     x: atomic<u32>,
     y: u32,
     z: u32,
+    wide_x: atomic<u32>,
+    wide_y: u32,
+    wide_z: u32,
 }
+
+// Pixels of a pair's sphere above which `splat_wide_pair` casts it.
+const WIDE_PIXELS: i32 = 32;
+// `splat_wide_pair`'s invocations per sphere: one SIMD vector of llvmpipe on AVX2.
+const WIDE_LANES: u32 = 8u;
+// Most workgroups `splat_wide_pair` is dispatched (a dimension's limit); each takes every
+// so-many-th wide sphere.
+const MAX_WIDE_GROUPS: u32 = 65535u;
 @group(0) @binding(7) var<storage, read_write> listed: ListedPoints;
 @group(0) @binding(8) var<storage, read_write> listed_groups: ListedGroups;
 
@@ -82,8 +99,62 @@ fn expand_splat_pair(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let idx = params.batch_first + gid.x;
     let p = point_sphere(idx);
+    let px = pair_pixels(p);
+    if !px.ok || too_large(px.a) || too_large(px.b) {
+        list_point(idx);
+        return;
+    }
+    let hide = pair_hidden(p, px);
+    count(select(STAT_SPLATTED, STAT_OCCLUDED, hide.x), 1u);
+    count_eye(1u - params.eye, select(STAT_SPLATTED, STAT_OCCLUDED, hide.y), 1u);
+    if all(hide) {
+        return;
+    }
+    let runs = pair_runs(px.a, px.b, hide);
+    if runs.len * (runs.rows.y - runs.rows.x + 1) > WIDE_PIXELS {
+        count(STAT_WIDE, 1u);
+        list_wide(idx);
+    } else {
+        splat_pair_pixels(p, other_eye(p), px.a, runs, hide, idx, 0, 1);
+    }
+}
+
+// The wide spheres `expand_splat_pair` listed, a workgroup each: its lanes share each row's
+// columns. The keys are those `expand_splat_pair` would have cast, and the tiles are as it
+// saw them (`expand_listed`, which raises them, runs after), so each eye is hidden as there.
+@compute @workgroup_size(WIDE_LANES)
+fn splat_wide_pair(@builtin(workgroup_id) group: vec3<u32>,
+                   @builtin(num_workgroups) groups: vec3<u32>,
+                   @builtin(local_invocation_index) lane: u32) {
+    let n = atomicLoad(&listed.wide);
+    let end = arrayLength(&listed.points);
+    for (var s = group.x; s < n; s += groups.x) {
+        let idx = listed.points[end - 1u - s];
+        let p = point_sphere(idx);
+        let px = pair_pixels(p);
+        let hide = pair_hidden(p, px);
+        splat_pair_pixels(p, other_eye(p), px.a, pair_runs(px.a, px.b, hide), hide, idx,
+                          i32(lane), i32(WIDE_LANES));
+    }
+}
+
+// Sphere `p` seen by the other eye of its pair.
+fn other_eye(p: PointSphere) -> PointSphere {
     var q = p;
     q.view.eye_sign = -p.view.eye_sign;
+    return q;
+}
+
+// Both eyes' pixels of a pair's sphere (bounds_pixels): `a` of `p`'s eye, `b` of the other;
+// not ok where either is not ordinary.
+struct PairPixels {
+    ok: bool,
+    a: vec4<i32>,
+    b: vec4<i32>,
+}
+
+fn pair_pixels(p: PointSphere) -> PairPixels {
+    let q = other_eye(p);
     let both = ordinary_bounds(p);
     let o = eye_pixels(both, p.view.eye_sign);
     var oq: OrdinaryPixels;
@@ -93,19 +164,15 @@ fn expand_splat_pair(@builtin(global_invocation_id) gid: vec3<u32>) {
     } else {
         oq = eye_pixels(both, q.view.eye_sign);
     }
-    if !o.ok || !oq.ok || too_large(o.px) || too_large(oq.px) {
-        list_point(idx);
-        return;
-    }
-    // Both eyes' rays start within the same reach of C, square to their directions.
+    return PairPixels(o.ok && oq.ok, o.px, oq.px);
+}
+
+// Whether each eye's tiles hide the sphere: both eyes' rays start within the same reach of
+// C, square to their directions.
+fn pair_hidden(p: PointSphere, px: PairPixels) -> vec2<bool> {
     let near = nearest_possible(p);
-    let hide = vec2<bool>(hidden_by_tiles(SLOT_OWN, o.px, near),
-                          hidden_by_tiles(SLOT_PAIR, oq.px, near));
-    count(select(STAT_SPLATTED, STAT_OCCLUDED, hide.x), 1u);
-    count_eye(1u - params.eye, select(STAT_SPLATTED, STAT_OCCLUDED, hide.y), 1u);
-    if !all(hide) {
-        splat_pair_pixels(p, q, o.px, oq.px, hide, idx);
-    }
+    return vec2<bool>(hidden_by_tiles(SLOT_OWN, px.a, near),
+                      hidden_by_tiles(SLOT_PAIR, px.b, near));
 }
 
 @compute @workgroup_size(EXPAND_WORKGROUP)
@@ -178,6 +245,16 @@ fn list_point(idx: u32) {
         atomicAdd(&listed_groups.x, 1u);
     }
     listed.points[slot] = idx;
+}
+
+// Appends point `idx` to the wide spheres, from the list's end, counting a workgroup of
+// `splat_wide_pair` per sphere up to MAX_WIDE_GROUPS.
+fn list_wide(idx: u32) {
+    let slot = atomicAdd(&listed.wide, 1u);
+    if slot < MAX_WIDE_GROUPS {
+        atomicAdd(&listed_groups.wide_x, 1u);
+    }
+    listed.points[arrayLength(&listed.points) - 1u - slot] = idx;
 }
 
 // Ray casts point `idx`'s sphere `p` when `expand_raycast_bounds` would draw its bounds (the
@@ -261,19 +338,28 @@ fn splat_pixels(view: View, px: vec4<i32>, s: vec3<f32>, radius: f32, idx: u32) 
     }
 }
 
-// Ray casts sphere `p` at pixels `a` and `q` (the same sphere seen by the other eye) at pixels
-// `b` (bounds_pixels of each), except for an eye in `hide`. Row by row, one run of columns
-// where the eyes' columns meet (far spheres: each pixel's table entries serve both), else
-// each eye's own (near ones, whose eyes' boxes lie apart).
-fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i32>,
-                     hide: vec2<bool>, idx: u32) {
+// Where a pair's sphere is cast, row by row: one run of columns where the eyes' columns meet
+// (far spheres: each pixel's table entries serve both), else each eye's own (near ones, whose
+// eyes' boxes lie apart). `b` is the other eye's pixels, its columns on `a`'s side of the
+// seam; a hidden eye's run is empty (last < first).
+struct PairRuns {
+    b: vec4<i32>,
+    run_a: vec2<i32>,
+    run_b: vec2<i32>,
+    // Columns of run_a, and of both runs.
+    len_a: i32,
+    len: i32,
+    // First and last row.
+    rows: vec2<i32>,
+}
+
+fn pair_runs(a: vec4<i32>, b_own: vec4<i32>, hide: vec2<bool>) -> PairRuns {
     let w = i32(params.image_size.x);
     // b's columns a turn over where they lie across the seam from a's (a parallel eye's box
     // can, seen from its own camera; an ODS pair's come from one box). Without it the box
     // would span the image: slower, not wrong.
     let turn = select(select(0, w, b_own.x + w / 2 < a.x), -w, b_own.x - w / 2 > a.x);
     let b = b_own + vec4<i32>(turn, 0, turn, 0);
-    // Each eye's columns as (first, last), empty (last < first) for a hidden eye.
     let none = vec2<i32>(0, -1);
     var run_a = select(a.xz, none, hide.x);
     var run_b = select(b.xz, none, hide.y);
@@ -284,10 +370,19 @@ fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i
     }
     let len_a = max(run_a.y - run_a.x + 1, 0);
     let len = len_a + max(run_b.y - run_b.x + 1, 0);
+    return PairRuns(b, run_a, run_b, len_a, len, vec2<i32>(min(a.y, b.y), max(a.w, b.w)));
+}
+
+// Ray casts sphere `p` at pixels `a` and `q` (the same sphere seen by the other eye) at
+// `runs.b`, except for an eye in `hide`: of each row's columns, those from `lane` in steps of
+// `lanes` (0 and 1: all).
+fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, runs: PairRuns,
+                     hide: vec2<bool>, idx: u32, lane: i32, lanes: i32) {
+    let w = i32(params.image_size.x);
     let payload = sphere_payload(idx);
-    for (var y = min(a.y, b.y); y <= max(a.w, b.w); y++) {
-        for (var k = 0; k < len; k++) {
-            let x = select(run_b.x + (k - len_a), run_a.x + k, k < len_a);
+    for (var y = runs.rows.x; y <= runs.rows.y; y++) {
+        for (var k = lane; k < runs.len; k += lanes) {
+            let x = select(runs.run_b.x + (k - runs.len_a), runs.run_a.x + k, k < runs.len_a);
             let xw = wrap_column(x);
             let at = table_pixel_trig(vec2<u32>(u32(xw), u32(y)));
             let i = u32(y * w + xw);
@@ -298,7 +393,7 @@ fn splat_pair_pixels(p: PointSphere, q: PointSphere, a: vec4<i32>, b_own: vec4<i
             }
             let u = intersect_sphere(ray_of_merge(q.view, at.trig, at.merge), q.centre,
                                      q.radius);
-            if u > 0.0 && !hide.y && inside_pixels(b, x, y) {
+            if u > 0.0 && !hide.y && inside_pixels(runs.b, x, y) {
                 atomicMax(&pair_keys[i], hit_key(u, payload));
             }
         }

@@ -273,6 +273,11 @@ fn compute_splat_and_drawing_give_the_same_frames() {
         eprintln!("{shading:?} splat: {with}\ndraw: {without}");
         assert_eq!(without.splatted, 0);
         assert!(with.splatted > 1000, "too few spheres splatted: {with}");
+        // ODS pairs: spheres over 32 pixels go to the wide splat, which must agree too.
+        assert!(
+            (150..=185).contains(&with.wide),
+            "spheres cast wide: {with}"
+        );
         assert!(with.vertices < without.vertices);
         assert_eq!(with.drawn, without.drawn);
         let pairs = match (&splatted, &drawn) {

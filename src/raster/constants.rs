@@ -155,6 +155,8 @@ shared_constants! {
     STAT_SPLATTED: u32 = stat(offset_of!(EyeStats, splatted));
     /// Counter index of [`EyeStats::occluded`].
     STAT_OCCLUDED: u32 = stat(offset_of!(EyeStats, occluded));
+    /// Counter index of [`EyeStats::wide`].
+    STAT_WIDE: u32 = stat(offset_of!(EyeStats, wide));
 }
 
 /// Near and far distances (metres) of the logarithmic depth `log(t/near)/log(far/near)`:
@@ -183,7 +185,8 @@ mod tests {
         );
         assert!(p.contains("const STAT_SPLATTED: u32 = 6u;\n"), "{p}");
         assert!(p.contains("const STAT_OCCLUDED: u32 = 7u;\n"), "{p}");
-        assert!(p.contains("const STATS_PER_EYE: u32 = 8u;\n"), "{p}");
+        assert!(p.contains("const STAT_WIDE: u32 = 8u;\n"), "{p}");
+        assert!(p.contains("const STATS_PER_EYE: u32 = 9u;\n"), "{p}");
         // The f32 literal reads back (through f64, as WGSL's abstract float) as the same f32.
         let text = p
             .lines()

@@ -98,6 +98,9 @@ pub struct ExpandPipeline {
     pairs: bool,
     /// On the keyed path, `expand_listed` and its layout.
     listed: Option<(wgpu::BindGroupLayout, wgpu::ComputePipeline)>,
+    /// For ODS pairs, `splat_wide_pair` (bound as `expand_listed`): the spheres the pair
+    /// splat leaves as too wide for one invocation, each cast by a workgroup.
+    wide: Option<wgpu::ComputePipeline>,
 }
 
 /// An expand pipeline's bind groups for one eye and chunk.
@@ -135,6 +138,7 @@ impl ExpandPipeline {
                 pipeline,
                 pairs: false,
                 listed: None,
+                wide: None,
             };
         }
         entries.extend([
@@ -147,6 +151,15 @@ impl ExpandPipeline {
         ]);
         let listed =
             shaders::compute_pipeline(device, "expand listed", src, "expand_listed", &entries);
+        let wide = pairs.then(|| {
+            shaders::compute_pipeline_with(
+                device,
+                "splat wide pair",
+                src,
+                "splat_wide_pair",
+                &listed.0,
+            )
+        });
         entries.push(entry(8, rw));
         let (label, entry_point) = if pairs {
             ("expand splat pair", "expand_splat_pair")
@@ -160,6 +173,7 @@ impl ExpandPipeline {
             pipeline,
             pairs,
             listed: Some(listed),
+            wide,
         }
     }
 
@@ -212,7 +226,7 @@ impl ExpandPipeline {
 
     /// Records the expansion of `count` points (the batch of the bound `Params`); `trig`
     /// binds the pixel trigonometry. On the keyed path `listed_groups` (bound, cleared to
-    /// [`splat::NO_GROUPS`] with the list's count to 0) sizes the second dispatch;
+    /// [`splat::NO_GROUPS`] with the list's counts to 0) sizes the later dispatches;
     /// `listed_only` records that one alone, for the second eye of a pair, whose spheres the
     /// first eye's splat cast and listed.
     pub fn dispatch(
@@ -232,6 +246,14 @@ impl ExpandPipeline {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bindings.main, &[]);
             pass.dispatch_workgroups(count.div_ceil(EXPAND_WORKGROUP), 1, 1);
+        }
+        if let (Some(wide), Some(group), Some(args), false) =
+            (&self.wide, &bindings.listed, listed_groups, listed_only)
+        {
+            // Before `expand_listed`, which raises the tiles the wide spheres test again.
+            pass.set_pipeline(wide);
+            pass.set_bind_group(0, group, &[]);
+            pass.dispatch_workgroups_indirect(args, splat::WIDE_GROUPS_OFFSET);
         }
         if let (Some((_, pipeline)), Some(group), Some(args)) =
             (&self.listed, &bindings.listed, listed_groups)

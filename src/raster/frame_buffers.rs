@@ -93,7 +93,7 @@ impl FrameBuffers {
                     ),
                     make(
                         "listed points' dispatch",
-                        size_of::<wgpu::util::DispatchIndirectArgs>(),
+                        size_of::<splat::ListedGroups>(),
                         U::STORAGE | U::INDIRECT | U::COPY_DST,
                     ),
                 )

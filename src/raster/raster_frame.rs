@@ -256,9 +256,10 @@ impl<'r> RasterFrame<'r> {
                 ctx.queue
                     .write_buffer(&self.buffers.draw_args, 0, empty_draw_args().as_bytes());
                 if let (Some((listed, groups)), false) = (&self.buffers.listed, listed_only) {
-                    ctx.queue.write_buffer(listed, 0, &0u32.to_ne_bytes());
                     ctx.queue
-                        .write_buffer(groups, 0, splat::NO_GROUPS.as_bytes());
+                        .write_buffer(listed, 0, bytemuck::bytes_of(&splat::NO_LISTED));
+                    ctx.queue
+                        .write_buffer(groups, 0, bytemuck::bytes_of(&splat::NO_GROUPS));
                 }
                 let mut encoder = device.create_command_encoder(&Default::default());
                 // What earlier batches drew hides spheres of this one: the tiles of the eyes

@@ -136,20 +136,32 @@ pub fn compute_pipeline(
         label: Some(label),
         entries,
     });
+    let pipeline = compute_pipeline_with(device, label, src, entry_point, &layout);
+    (layout, pipeline)
+}
+
+/// A compute pipeline of `src`'s `entry_point` over an existing group-0 `layout` (so the
+/// bind groups of another pipeline serve it), with the pixel trigonometry as group 1.
+pub fn compute_pipeline_with(
+    device: &wgpu::Device,
+    label: &str,
+    src: &PipelineSource<'_>,
+    entry_point: &str,
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::ComputePipeline {
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),
-        bind_group_layouts: &[Some(&layout), Some(src.trig)],
+        bind_group_layouts: &[Some(layout), Some(src.trig)],
         immediate_size: 0,
     });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout),
         module: src.module,
         entry_point: Some(entry_point),
         compilation_options: options(src.constants),
         cache: src.cache,
-    });
-    (layout, pipeline)
+    })
 }
 
 /// Records one compute pass `label` of `pipeline` over `workgroups`, with `bind_group` as

@@ -34,16 +34,35 @@ pub fn expand_part(int64_atomics: bool) -> String {
     }
 }
 
-/// Bytes of the list of points the splat leaves to draw (WGSL `ListedPoints`) for batches of
-/// up to `batch_points` points: the count, then an index each.
+/// Bytes of the list of points the splat leaves to draw or to cast wide (WGSL
+/// `ListedPoints`) for batches of up to `batch_points` points: the two counts, then an index
+/// each (the listed from the start, the wide from the end: a point is one or the other).
 pub fn listed_bytes(batch_points: u32) -> u64 {
-    (1 + batch_points as u64) * size_of::<u32>() as u64
+    (2 + batch_points as u64) * size_of::<u32>() as u64
 }
 
-/// What the second dispatch's arguments (WGSL `ListedGroups`) hold before each batch: no
-/// workgroups yet, of one row and layer.
-pub const NO_GROUPS: wgpu::util::DispatchIndirectArgs =
-    wgpu::util::DispatchIndirectArgs { x: 0, y: 1, z: 1 };
+/// The two counts of WGSL `ListedPoints`, as they are cleared before each batch.
+pub const NO_LISTED: [u32; 2] = [0, 0];
+
+/// The indirect dispatches' arguments after a pair splat (WGSL `ListedGroups`): the listed
+/// points' workgroups, then the wide spheres'.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ListedGroups {
+    /// `expand_listed`'s workgroups (x, y, z).
+    pub listed: [u32; 3],
+    /// `splat_wide_pair`'s workgroups (x, y, z).
+    pub wide: [u32; 3],
+}
+
+/// What [`ListedGroups`] holds before each batch: no workgroups yet, of one row and layer.
+pub const NO_GROUPS: ListedGroups = ListedGroups {
+    listed: [0, 1, 1],
+    wide: [0, 1, 1],
+};
+
+/// Byte offset of [`ListedGroups::wide`], the wide spheres' dispatch arguments.
+pub const WIDE_GROUPS_OFFSET: u64 = std::mem::offset_of!(ListedGroups, wide) as u64;
 
 /// Bytes of the occlusion tiles of a `width x height` eye (`shaders/occlusion.wgsl`): a `u32`
 /// per tile of `TILE_SIDE` pixels a side.

@@ -24,6 +24,9 @@ pub struct EyeStats {
     pub splatted: u32,
     /// Spheres skipped whole, hidden by nearer ones (`shaders/occlusion.wgsl`).
     pub occluded: u32,
+    /// Of the splatted spheres, those an ODS pair's splat cast by a workgroup each
+    /// (`splat_wide_pair`), counted once for both eyes.
+    pub wide: u32,
 }
 
 /// Counts from one render, summed over the eyes.
@@ -46,6 +49,8 @@ pub struct RasterStats {
     pub occluded: u64,
     /// Vertices written.
     pub vertices: u64,
+    /// Of the splatted spheres, those cast by a workgroup each for both eyes of a pair.
+    pub wide: u64,
     /// Expand/draw batches submitted (per eye).
     pub batches: u64,
 }
@@ -67,6 +72,7 @@ impl RasterStats {
             splatted: total(|e| e.splatted),
             occluded: total(|e| e.occluded),
             vertices: total(|e| e.vertices),
+            wide: total(|e| e.wide),
             batches,
         })
     }
@@ -77,12 +83,13 @@ impl std::fmt::Display for RasterStats {
         write!(
             f,
             "{} proxies drawn ({} special, {} seam copies, {} splatted, {} hidden by nearer ones, \
-             {} vertices, {} batches), {} points inside the viewing circle",
+             {} cast wide, {} vertices, {} batches), {} points inside the viewing circle",
             self.drawn,
             self.special,
             self.seam_copies,
             self.splatted,
             self.occluded,
+            self.wide,
             self.vertices,
             self.batches,
             self.culled
@@ -105,6 +112,7 @@ mod tests {
             vertices: 6,
             splatted: 7,
             occluded: 8,
+            wide: 9,
         };
         let right = EyeStats {
             culled: 10,
@@ -115,6 +123,7 @@ mod tests {
             vertices: 60,
             splatted: 70,
             occluded: 80,
+            wide: 90,
         };
         let s = RasterStats::sum(&[left, right], 5).unwrap();
         assert_eq!(
@@ -127,6 +136,7 @@ mod tests {
                 splatted: 77,
                 occluded: 88,
                 vertices: 66,
+                wide: 99,
                 batches: 5,
             }
         );
