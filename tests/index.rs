@@ -230,6 +230,33 @@ fn stored_radii_are_kept_by_the_level_of_detail_read() {
     );
 }
 
+/// A fixed `--radius` is metres, stored in the unit the file declares (Autzen: international
+/// feet), or the file's unit as given with `Units::File`.
+#[test]
+fn a_fixed_radius_is_metres_stored_in_the_files_unit() {
+    use omnicloud::prepare::{RadiusChoice, Units};
+    let dir = tempfile::tempdir().unwrap();
+    let input = data_common::autzen();
+    for (units, want) in [(Units::Metres, 0.3 / 0.3048), (Units::File, 0.3)] {
+        let options = IndexOptions {
+            radius: Some(RadiusChoice::Fixed(0.3)),
+            units,
+            ..IndexOptions::default()
+        };
+        let (out, _) = index_into(std::slice::from_ref(&input), dir.path(), &options);
+        let (scene, _) = io::load_scene(&out, &LoadOptions::default()).unwrap();
+        let radii = match &scene.radii {
+            omnicloud::Radii::PerPoint(r) => r.clone(),
+            other => panic!("{units:?}: stored radii not read: {other:?}"),
+        };
+        assert!(
+            radii.iter().all(|&r| (f64::from(r) - want).abs() < 1e-6),
+            "{units:?}: radii {:?}.., want {want}",
+            &radii[..3]
+        );
+    }
+}
+
 /// laspy's CopcReader reads the index, every point and both radius fields.
 #[test]
 fn laspy_reads_the_index() {

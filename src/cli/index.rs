@@ -8,7 +8,7 @@ use indicatif::ProgressStyle;
 
 use crate::index::{self, IndexOptions};
 use crate::memory::{format_size, parse_size, peak_resident};
-use crate::prepare::RadiusChoice;
+use crate::prepare::{RadiusChoice, Units};
 
 use super::progress;
 
@@ -24,10 +24,14 @@ pub struct IndexArgs {
     /// Memory the index may use (e.g. `2G`, `512M`).
     #[arg(long, value_name = "SIZE", value_parser = parse_size, default_value = "2G")]
     pub max_memory: u64,
-    /// Sphere radius stored with each point: a length in file units, or `adaptive[:K]` (from
+    /// Sphere radius stored with each point: a length (see --units), or `adaptive[:K]` (from
     /// each point's K nearest neighbours); default: the files' own radii, else `adaptive`.
     #[arg(long, value_name = "R")]
     pub radius: Option<RadiusChoice>,
+    /// What a --radius length is in: metres, converted to the unit the first file's
+    /// coordinate system declares (feet, US survey feet), or the file's own unit.
+    #[arg(long, value_enum, ignore_case = true, default_value = "metres")]
+    pub units: Units,
     /// No progress bar.
     #[arg(short, long)]
     pub quiet: bool,
@@ -53,6 +57,7 @@ pub fn run(args: &IndexArgs) -> Result<()> {
     let options = IndexOptions {
         max_memory: args.max_memory,
         radius: args.radius,
+        units: args.units,
     };
     let report = index::index(&args.files, &args.output, &options, &bar)
         .with_context(|| format!("indexing into {}", args.output.display()))?;

@@ -30,8 +30,9 @@ use glam::DVec3;
 use indicatif::ProgressBar;
 use rayon::prelude::*;
 
-use crate::io::{self, FileInfo, LoadError, NodeKey, RawChunk, RawRgb};
+use crate::io::{self, FileInfo, LoadError, NodeKey, RawChunk, RawRgb, Up};
 use crate::output::{ScratchDir, StagedFile};
+use crate::prepare::lengths::{LengthScale, Units};
 use crate::prepare::radius::{DEFAULT_K, RadiusChoice};
 use build::{Cube, RadiusRule};
 use copc_file::{CopcWriter, Summary, Vlr};
@@ -56,9 +57,12 @@ const READ_CHUNK: usize = 1 << 16;
 pub struct IndexOptions {
     /// Memory the index may use, bytes (buckets are sized for it).
     pub max_memory: u64,
-    /// The full-detail radius: a length, or `adaptive[:K]`; `None` = the files' own radii
-    /// where they have them, else `adaptive`.
+    /// The full-detail radius: a length in [`Self::units`], or `adaptive[:K]`; `None` = the
+    /// files' own radii where they have them, else `adaptive`.
     pub radius: Option<RadiusChoice>,
+    /// What a fixed radius is given in: metres (converted to the unit the first file's
+    /// coordinate system declares) or the file's own unit.
+    pub units: Units,
 }
 
 impl Default for IndexOptions {
@@ -66,6 +70,7 @@ impl Default for IndexOptions {
         IndexOptions {
             max_memory: DEFAULT_MAX_MEMORY,
             radius: None,
+            units: Units::Metres,
         }
     }
 }
@@ -476,7 +481,8 @@ pub fn index(
     let declared: u64 = infos.iter().map(|i| i.point_count).sum();
     let layout = Layout::new(infos.iter().any(|i| i.attributes.rgb));
     let file_radii = infos.iter().all(|i| i.attributes.radius);
-    let rule = radius_rule(options.radius, file_radii);
+    let per_given = LengthScale::for_info(&infos[0], options.units, Up::Z).length(1.0);
+    let rule = radius_rule(options.radius.map(|r| r.scaled(per_given)), file_radii);
     let (lo, hi) = bounds(inputs, &infos)?;
     let (q, cube) = plan_grid(&infos, lo, hi)?;
 
