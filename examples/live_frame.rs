@@ -2,7 +2,7 @@
 //! (as `/api/live` does), timed per step, under each compute-splat limit asked for.
 //!
 //! `cargo run --release --example live_frame -- [FILE] [--width 1440] [--frames 5]
-//! [--splat 64,32,16,0]` (FILE defaults to the sample, data/autzen_trim.laz).
+//! [--splat 64,32,16,0] [--east M]` (FILE defaults to the sample, data/autzen_trim.laz).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -28,6 +28,10 @@ struct Args {
     /// Frames timed per splat limit (after one warm-up frame).
     #[arg(long, default_value = "5")]
     frames: usize,
+    /// Camera this many metres east of the start camera (the live bench's walk starts a fifth
+    /// of the scan's width west of it).
+    #[arg(long, default_value = "0", allow_hyphen_values = true)]
+    east: f64,
     /// Compute-splat limits to try, pixels (0: every sphere drawn); none: the default.
     #[arg(long, value_delimiter = ',')]
     splat: Vec<u32>,
@@ -56,7 +60,8 @@ fn main() -> anyhow::Result<()> {
         ..LiveOptions::default()
     };
     let scan = LiveScan::new(&args.file, prepared.scene, options)?;
-    let camera = DVec3::from_array(scan.info.camera) - scan.scene.origin;
+    let camera = DVec3::from_array(scan.info.camera) - scan.scene.origin
+        + DVec3::X * scale.length(args.east);
     let mut settings = live_settings(&scan, camera, &RenderRequest::default_at(&scan.limits));
     settings.image = Image::equirect(args.width);
     let hidden = ProgressBar::hidden();
