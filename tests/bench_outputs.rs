@@ -274,6 +274,51 @@ fn bench_on_the_command_line_takes_the_projection_and_its_modes() {
 }
 
 #[test]
+fn bench_of_a_copc_file_reads_through_its_level_of_detail() {
+    let Some(_) = raster_common::rasterizer() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let bench = |lod: &str| {
+        let out = dir.path().join(lod);
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+            .args(["bench", "data/courtyard.copc.laz", "--width", "256"])
+            .args([
+                "--frames",
+                "1",
+                "--warmup",
+                "0",
+                "--modes",
+                "bounds+raycast",
+            ])
+            .args(["--no-mono-baseline", "--quiet", "--lod", lod, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let json = std::fs::read(out.join("bench.json")).unwrap();
+        let report: BenchReport = serde_json::from_slice(&json).unwrap();
+        let md = std::fs::read_to_string(out.join("bench.md")).unwrap();
+        (report, md)
+    };
+    // At 256 px the view from the courtyard reads 137,077 of the 431,121 points (measured).
+    let (on, md) = bench("on");
+    let lod = on.level_of_detail.expect("the level of detail is reported");
+    assert_eq!(lod.points_total, 431_121);
+    assert_eq!(on.points as u64, lod.points_read);
+    assert!((120_000..160_000).contains(&lod.points_read), "{lod}");
+    assert!(md.contains("- level of detail (1 px): read "), "{md}");
+    let (off, md) = bench("off");
+    assert_eq!(off.level_of_detail, None);
+    assert_eq!(off.points, 431_121);
+    assert!(!md.contains("level of detail"), "{md}");
+}
+
+#[test]
 fn bench_suite_refuses_the_scene_and_camera_options_it_would_ignore() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
@@ -294,6 +339,8 @@ fn bench_suite_refuses_the_scene_and_camera_options_it_would_ignore() {
             "30",
             "--radius",
             "0.2",
+            "--lod",
+            "2",
         ],
     );
     let stderr = String::from_utf8_lossy(&refused.stderr);
@@ -301,7 +348,7 @@ fn bench_suite_refuses_the_scene_and_camera_options_it_would_ignore() {
     assert!(
         stderr.contains(
             "--suite places each view and prepares each scene from its manifest: --yaw, \
-             --projection, --radius would be ignored"
+             --projection, --radius, --lod would be ignored"
         ),
         "{stderr}"
     );

@@ -200,6 +200,9 @@ pub struct BenchReport {
     /// `None` when the scan declares no unit of length.
     #[serde(default)]
     pub metres_per_unit: Option<f64>,
+    /// What a COPC file's level of detail read for the camera (`None`: every point).
+    #[serde(default)]
+    pub level_of_detail: Option<crate::prepare::LodReport>,
     /// The GPU adapter (name and backend).
     pub adapter: String,
     /// Frames rendered before timing, per mode.
@@ -376,7 +379,7 @@ pub fn markdown(report: &BenchReport) -> String {
     let _ = writeln!(out, "## Benchmark: {}\n", report.scene);
     let _ = writeln!(
         out,
-        "- {} points, {}×{} per eye{}, {}\n- adapter: {}\n- frame time: median of {} frames after {} warm-up frames, measured by {}\n- reference: CPU ray tracer, {:.3} s on {} threads\n",
+        "- {} points, {}×{} per eye{}, {}\n- adapter: {}\n- frame time: median of {} frames after {} warm-up frames, measured by {}\n- reference: CPU ray tracer, {:.3} s on {} threads",
         report.points,
         report.width,
         report.height,
@@ -393,6 +396,10 @@ pub fn markdown(report: &BenchReport) -> String {
         report.reference.seconds,
         report.reference.threads,
     );
+    if let Some(lod) = &report.level_of_detail {
+        let _ = writeln!(out, "- {lod}");
+    }
+    let _ = writeln!(out);
     let proxies: Vec<Proxy> = TABLE_PROXIES
         .iter()
         .copied()
@@ -521,6 +528,7 @@ pub(crate) mod tests {
             projection: "equirect".into(),
             stereo: "mono".into(),
             metres_per_unit: Some(0.3048),
+            level_of_detail: None,
             adapter: "test adapter".into(),
             warmup_frames: 1,
             timed_frames: 3,

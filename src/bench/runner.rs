@@ -212,6 +212,7 @@ pub fn run_bench_with(
         projection: settings.image.projection.to_string(),
         stereo: stereo_name(&settings.stereo).to_string(),
         metres_per_unit: None,
+        level_of_detail: None,
         adapter: rasterizer.adapter_name().to_string(),
         warmup_frames: config.warmup_frames,
         timed_frames: config.timed_frames,

@@ -10,7 +10,7 @@ use indicatif::ProgressBar;
 use crate::bench::{self, BenchConfig, BenchMode};
 use crate::io::Up;
 use crate::prepare::filter::ReturnFilter;
-use crate::prepare::prepare;
+use crate::prepare::{LodChoice, PrepareOptions, prepare};
 use crate::projection::Image;
 use crate::render::{ColorMode, RenderSettings};
 
@@ -63,6 +63,11 @@ pub struct BenchArgs {
         value_name = "N,N,..."
     )]
     pub cubemap_faces: Vec<u32>,
+    /// Level of detail for a COPC file (.copc.laz), as `render` reads it: `on` (the default)
+    /// reads the octree nodes whose point spacing seen from the camera is a pixel or more of
+    /// the benchmarked width, a number of pixels sets that threshold, `off` reads every point.
+    #[arg(long, value_name = "on|off|PIXELS")]
+    pub lod: Option<LodChoice>,
     /// No progress bar or summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -98,7 +103,7 @@ fn modes(args: &BenchArgs) -> Result<Vec<bench::BenchMode>> {
 
 /// The scene and camera options `view` sets that `--suite` would ignore: its manifest
 /// places each view and prepares each scene.
-fn ignored_by_suite(view: &ViewArgs) -> Vec<&'static str> {
+fn ignored_by_suite(view: &ViewArgs, lod: Option<LodChoice>) -> Vec<&'static str> {
     [
         ("--camera", view.camera.is_some()),
         ("--yaw", view.yaw != 0.0),
@@ -113,6 +118,7 @@ fn ignored_by_suite(view: &ViewArgs) -> Vec<&'static str> {
         ("--crop", view.crop.is_some()),
         ("--max-distance", view.max_distance.is_some()),
         ("--units", view.units != crate::prepare::Units::default()),
+        ("--lod", lod.is_some()),
     ]
     .into_iter()
     .filter_map(|(name, set)| set.then_some(name))
@@ -140,7 +146,7 @@ pub fn run(given: &BenchArgs) -> Result<()> {
         None => given,
     };
     if args.suite.is_some() {
-        let ignored = ignored_by_suite(&args.view);
+        let ignored = ignored_by_suite(&args.view, args.lod);
         if !ignored.is_empty() {
             bail!(
                 "--suite places each view and prepares each scene from its manifest: {} \
@@ -180,7 +186,15 @@ pub fn run(given: &BenchArgs) -> Result<()> {
                 eprintln!("{m}");
             }
         };
-        let prepared = prepare(file, &args.view.prepare_options(), &ProgressBar::hidden())?;
+        let width = args.width.unwrap_or(DEFAULT_WIDTH);
+        let options = PrepareOptions {
+            lod: args.lod.unwrap_or(LodChoice::Pixels(1.0)).at_width(width),
+            ..args.view.prepare_options()
+        };
+        let prepared = prepare(file, &options, &ProgressBar::hidden())?;
+        if let Some(lod) = &prepared.lod {
+            say(format!("{}: {lod}", file.display()));
+        }
         super::notes::say_load_notes(file, &prepared.report, &say);
         let scale = scale.expect("a scan's scale");
         super::notes::say_units(
@@ -198,10 +212,7 @@ pub fn run(given: &BenchArgs) -> Result<()> {
             c.y,
             c.z
         ));
-        let mut base = RenderSettings::new(
-            args.width.unwrap_or(DEFAULT_WIDTH),
-            args.view.camera_at(DVec3::ZERO),
-        );
+        let mut base = RenderSettings::new(width, args.view.camera_at(DVec3::ZERO));
         if args.view.projection.is_map() {
             bail!("bench times views from a camera: --projection map has none");
         }
@@ -217,6 +228,7 @@ pub fn run(given: &BenchArgs) -> Result<()> {
         }
         let mut report = bench::run_bench(&name, &prepared.scene, &base, &config, &pb)?;
         report.metres_per_unit = scale.metres_per_unit;
+        report.level_of_detail = prepared.lod;
         pb.finish_and_clear();
         let files = bench::write_outputs(&report, &args.out)?;
         vec![

@@ -348,7 +348,7 @@ pub fn survey(
 }
 
 /// What a view-dependent read did, for the summary.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LodReport {
     /// Points read.
     pub points_read: u64,
