@@ -137,6 +137,52 @@ fn copc_reader_reads_the_laz_readers_points() {
     assert_eq!(off.scene.positions, scene.positions);
 }
 
+/// One opened file serves many node reads, from several threads at once, each the points a
+/// read of its own gives; a key not in the hierarchy is refused by name.
+#[test]
+fn one_opened_file_reads_any_nodes_from_any_thread() {
+    use std::collections::HashSet;
+    let path = fixture();
+    let copc = io::CopcFile::open(&path).unwrap();
+    assert_eq!(copc.octree(), &io::read_octree(&path).unwrap());
+    let mut keys: Vec<NodeKey> = copc.octree().nodes.keys().copied().collect();
+    keys.sort_unstable();
+    let positions = |reader: io::PointReader| -> Vec<DVec3> {
+        reader
+            .chunks(1 << 16)
+            .flat_map(|c| c.unwrap().positions)
+            .collect()
+    };
+    let groups: Vec<&[NodeKey]> = keys.chunks(97).collect();
+    let shared: Vec<Vec<DVec3>> = std::thread::scope(|s| {
+        let handles: Vec<_> = groups
+            .iter()
+            .map(|g| s.spawn(|| positions(copc.read_nodes(g, &HashSet::new()).unwrap())))
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let mut total = 0;
+    for (group, got) in groups.iter().zip(&shared) {
+        assert_eq!(got, &positions(io::open_nodes(&path, group).unwrap()));
+        total += got.len() as u64;
+    }
+    assert_eq!(total, POINTS);
+    let missing = NodeKey {
+        depth: 9,
+        x: 0,
+        y: 0,
+        z: 0,
+    };
+    let err = copc
+        .read_nodes(&[missing], &HashSet::new())
+        .err()
+        .expect("a node the hierarchy does not list");
+    assert!(
+        err.to_string().contains("no node 9-0-0-0 in the hierarchy"),
+        "{err}"
+    );
+}
+
 /// Byte offset and length of the COPC hierarchy EVLR's data.
 fn hierarchy_evlr(bytes: &[u8]) -> (usize, usize) {
     let u64_at = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().unwrap()) as usize;

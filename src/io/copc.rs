@@ -1,8 +1,10 @@
 //! COPC (Cloud Optimized Point Cloud, <https://copc.io>): a LAZ 1.4 file whose points are
 //! grouped in the nodes of an octree, each node one compressed chunk, listed by a hierarchy
-//! EVLR. Through `las`'s `CopcReader`: [`read_octree`] reads and checks the hierarchy,
-//! [`open_nodes`] reads the points of chosen nodes. A plain read of the whole file needs none
-//! of this: [`super::open`] reads a COPC file as the LAZ file it is.
+//! EVLR. Through `las`'s `CopcReader`: [`CopcFile::open`] reads and checks the header and the
+//! hierarchy once, [`CopcFile::read_nodes`] then reads the points of chosen nodes (each
+//! decoded by `laz` from its own chunk); [`read_octree`] and [`open_nodes`] do both for one
+//! read. A plain read of the whole file needs none of this: [`super::open`] reads a COPC file
+//! as the LAZ file it is.
 
 use super::error::LoadError;
 use super::guard::guarded;
@@ -14,6 +16,7 @@ use std::collections::{HashMap, HashSet, VecDeque};
 use std::fs::File;
 use std::io::BufReader;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Deepest octree level accepted: node coordinates up to 2^30 fit the format's i32.
 pub const MAX_DEPTH: u32 = 30;
@@ -158,8 +161,11 @@ fn corrupt(path: &Path, detail: impl Into<String>) -> LoadError {
 
 type Reader = las::CopcReader<'static, BufReader<File>>;
 
-/// Opens the COPC reader (header, info VLR, hierarchy) with typed errors.
-fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
+/// Opens the COPC reader (header, info VLR, hierarchy) with typed errors; with it the
+/// layered chunk shape its LASzip VLR gives.
+fn open_reader(
+    path: &Path,
+) -> Result<(FileInfo, Reader, super::las::laz_chunks::NodeChunks), LoadError> {
     // The header checks (sizes against the file) come first: the las crate trusts them.
     let info = super::read_info(path)?;
     if !is_copc(&info) {
@@ -173,8 +179,8 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
             .map_err(|e| corrupt(path, e.to_string()))?;
         check_pages(path, &header)?;
         // The decoder sets up its models from the LASzip VLR's items here.
-        node_chunks(path)?;
-        las::CopcReader::new(BufReader::new(open()?)).map_err(|e| match e {
+        let (chunks, _, _) = node_chunks(path)?;
+        let reader = las::CopcReader::new(BufReader::new(open()?)).map_err(|e| match e {
             las::Error::CopcHierarchyEvlrNotFound => corrupt(
                 path,
                 "the hierarchy EVLR is missing, or a page it points to lies outside it",
@@ -187,9 +193,10 @@ fn open_reader(path: &Path) -> Result<(FileInfo, Reader), LoadError> {
                 ),
             ),
             other => corrupt(path, other.to_string()),
-        })
+        })?;
+        Ok((reader, chunks))
     })?;
-    Ok((info, reader))
+    Ok((info, reader.0, reader.1))
 }
 
 /// A hierarchy entry that refers to a child page: `(node, page offset, page size)`.
@@ -277,11 +284,12 @@ fn check_pages(path: &Path, header: &las::Header) -> Result<(), LoadError> {
 /// [`LoadError::CorruptCopc`] naming the file and the fault; [`LoadError::NotCopc`]; any
 /// header error of [`super::read_info`].
 pub fn read_octree(path: &Path) -> Result<Octree, LoadError> {
-    let (_, reader) = open_reader(path)?;
-    octree_of(path, &reader)
+    let (_, reader, _) = open_reader(path)?;
+    Ok(octree_of(path, &reader)?.0)
 }
 
-fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
+/// The octree of the file `reader` reads, checked, and the hierarchy's entries by node.
+fn octree_of(path: &Path, reader: &Reader) -> Result<(Octree, HashMap<NodeKey, Entry>), LoadError> {
     let header = reader.header();
     let info = header
         .copc_info_vlr()
@@ -305,6 +313,7 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
         .len();
     let declared = header.number_of_points();
     let mut nodes = HashMap::new();
+    let mut entries = HashMap::new();
     let mut chunks = Vec::new();
     for entry in reader.hierarchy_entries() {
         let key = NodeKey::from_las(&entry.key).ok_or_else(|| {
@@ -321,6 +330,7 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
             chunks.push((entry.offset, entry.byte_size as u64, key));
         }
         nodes.insert(key, count);
+        entries.insert(key, entry);
     }
     // Chunks never share bytes: an offset or size off by a flipped bit mostly makes two meet.
     chunks.sort_unstable();
@@ -357,25 +367,30 @@ fn octree_of(path: &Path, reader: &Reader) -> Result<Octree, LoadError> {
             ),
         ));
     }
-    Ok(Octree {
+    let octree = Octree {
         center,
         halfsize: info.halfsize,
         spacing: info.spacing,
         nodes,
         point_count: declared,
-    })
+    };
+    Ok((octree, entries))
 }
 
 /// The points of one entry, checked against the file.
 fn check_entry(path: &Path, entry: &Entry, declared: u64, file_len: u64) -> Result<u64, LoadError> {
     let key = entry.key;
-    let name = format!("node {}-{}-{}-{}", key.l, key.x, key.y, key.z);
+    // Named only for an error: a hierarchy holds thousands of entries.
+    let name = || format!("node {}-{}-{}-{}", key.l, key.x, key.y, key.z);
     let count = u64::try_from(entry.point_count)
-        .map_err(|_| corrupt(path, format!("{name} has {} points", entry.point_count)))?;
+        .map_err(|_| corrupt(path, format!("{} has {} points", name(), entry.point_count)))?;
     if count > declared {
         return Err(corrupt(
             path,
-            format!("{name} claims {count} points, more than the file's {declared}"),
+            format!(
+                "{} claims {count} points, more than the file's {declared}",
+                name()
+            ),
         ));
     }
     if count > 0 {
@@ -384,8 +399,10 @@ fn check_entry(path: &Path, entry: &Entry, declared: u64, file_len: u64) -> Resu
             return Err(corrupt(
                 path,
                 format!(
-                    "{name}'s chunk ({} bytes at byte {}) lies outside the {file_len}-byte file",
-                    entry.byte_size, entry.offset
+                    "{}'s chunk ({} bytes at byte {}) lies outside the {file_len}-byte file",
+                    name(),
+                    entry.byte_size,
+                    entry.offset
                 ),
             ));
         }
@@ -393,8 +410,139 @@ fn check_entry(path: &Path, entry: &Entry, declared: u64, file_len: u64) -> Resu
     Ok(count)
 }
 
-/// Opens a COPC file for reading the points of `keys` only (nodes in the file's order, one
-/// chunk per node); the reader's [`FileInfo`] is the whole file's.
+/// A COPC file opened once for many reads of its nodes: its header, LASzip VLR and hierarchy
+/// read and checked ([`read_octree`]'s checks), shared by every [`CopcFile::read_nodes`].
+/// Reads open the file again (one handle each, so they may run on several threads); a file
+/// changed on disk after `open` is the caller's to detect.
+#[derive(Debug)]
+pub struct CopcFile {
+    path: PathBuf,
+    info: FileInfo,
+    octree: Octree,
+    /// The hierarchy's entry of every node.
+    entries: HashMap<NodeKey, Entry>,
+    /// The layered chunk shape, to check a node's chunk before decoding it.
+    node_chunks: super::las::laz_chunks::NodeChunks,
+    file_len: u64,
+    format: Arc<NodeFormat>,
+}
+
+/// What decoding a node's chunk needs.
+#[derive(Debug)]
+struct NodeFormat {
+    /// The file's header: point format and extra bytes, for the decoded records.
+    header: las::Header,
+    /// The LASzip VLR; `None` when it does not parse (every node read then fails, naming it).
+    vlr: Result<laz::LazVlr, String>,
+    /// Where the stored full-detail radius lies in a record's extra bytes.
+    radius_at: Option<usize>,
+    /// Where the stored radius for a view stopping at the point's node lies.
+    lod_radius_at: Option<usize>,
+}
+
+impl CopcFile {
+    /// Opens `path` and reads and checks its header and hierarchy.
+    ///
+    /// # Errors
+    /// As [`read_octree`].
+    pub fn open(path: &Path) -> Result<Self, LoadError> {
+        use super::extra_bytes::{LOD_RADIUS_FIELD, RADIUS_FIELD};
+        let (info, reader, node_chunks) = open_reader(path)?;
+        let (octree, entries) = octree_of(path, &reader)?;
+        let header = reader.header().clone();
+        let file_len = std::fs::metadata(path)
+            .map_err(|e| LoadError::from_io(path, e))?
+            .len();
+        let format = NodeFormat {
+            radius_at: super::las::stored_f32_field(&header, RADIUS_FIELD),
+            lod_radius_at: super::las::stored_f32_field(&header, LOD_RADIUS_FIELD),
+            vlr: header.laz_vlr().map_err(|e| e.to_string()),
+            header,
+        };
+        Ok(CopcFile {
+            path: path.to_path_buf(),
+            info,
+            octree,
+            entries,
+            node_chunks,
+            file_len,
+            format: Arc::new(format),
+        })
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The whole file's header information.
+    pub fn info(&self) -> &FileInfo {
+        &self.info
+    }
+
+    /// The file's octree.
+    pub fn octree(&self) -> &Octree {
+        &self.octree
+    }
+
+    /// A reader of the points of `keys` only (nodes in the file's order, one chunk per node);
+    /// its [`FileInfo`] is the whole file's. Where the file stores radii (an index made by
+    /// omnicloud), the points of the nodes in `stopped`, where a level-of-detail read stops
+    /// refining, get the radius stored for a view that stops there, the others their
+    /// full-detail radius.
+    ///
+    /// # Errors
+    /// A key the hierarchy does not list; a node chunk whose layers do not fit it; the file
+    /// cannot be opened.
+    pub fn read_nodes(
+        &self,
+        keys: &[NodeKey],
+        stopped: &HashSet<NodeKey>,
+    ) -> Result<PointReader, LoadError> {
+        let path = &self.path;
+        let mut entries = Vec::with_capacity(keys.len());
+        for key in keys {
+            let Some(entry) = self.entries.get(key) else {
+                return Err(corrupt(
+                    path,
+                    format!(
+                        "no node {}-{}-{}-{} in the hierarchy",
+                        key.depth, key.x, key.y, key.z
+                    ),
+                ));
+            };
+            if entry.point_count > 0 {
+                entries.push(entry.clone());
+            }
+        }
+        entries.sort_by_key(|e| e.offset);
+        let file = File::open(path).map_err(|e| LoadError::from_io(path, e))?;
+        let mut chunks = BufReader::new(file);
+        // The layer sizes are checked before the decoder zero-fills what they state.
+        for entry in &entries {
+            let size = u64::try_from(entry.byte_size).unwrap_or(0);
+            self.node_chunks
+                .check(path, &mut chunks, entry.offset, size)
+                .map_err(|detail| corrupt(path, format!("{}: {detail}", node_name(entry))))?;
+        }
+        Ok(PointReader {
+            info: self.info.clone(),
+            source: Source::Copc(Box::new(CopcSource {
+                path: path.clone(),
+                chunks,
+                file_len: self.file_len,
+                format: Arc::clone(&self.format),
+                pending: entries.into(),
+                ready: VecDeque::new(),
+                read: 0,
+                broken: false,
+                stopped: stopped.iter().map(|k| k.to_las()).collect(),
+            })),
+        })
+    }
+}
+
+/// Opens a COPC file for reading the points of `keys` only ([`CopcFile::read_nodes`]).
 ///
 /// # Errors
 /// As [`read_octree`]; a key the hierarchy does not list.
@@ -402,9 +550,8 @@ pub fn open_nodes(path: &Path, keys: &[NodeKey]) -> Result<PointReader, LoadErro
     open_nodes_stopping(path, keys, &HashSet::new())
 }
 
-/// [`open_nodes`] for a level-of-detail read that stops refining at the nodes `stopped`: where
-/// the file stores radii (an index made by omnicloud), the points of those nodes get the
-/// radius stored for a view that stops there, the others their full-detail radius.
+/// [`open_nodes`] for a level-of-detail read that stops refining at the nodes `stopped`
+/// ([`CopcFile::read_nodes`]).
 ///
 /// # Errors
 /// As [`open_nodes`].
@@ -413,46 +560,13 @@ pub fn open_nodes_stopping(
     keys: &[NodeKey],
     stopped: &HashSet<NodeKey>,
 ) -> Result<PointReader, LoadError> {
-    use super::extra_bytes::{LOD_RADIUS_FIELD, RADIUS_FIELD};
-    let (info, reader) = open_reader(path)?;
-    let radius_at = super::las::stored_f32_field(reader.header(), RADIUS_FIELD);
-    let lod_radius_at = super::las::stored_f32_field(reader.header(), LOD_RADIUS_FIELD);
-    let octree = octree_of(path, &reader)?;
-    let mut entries = Vec::with_capacity(keys.len());
-    for key in keys {
-        if !octree.nodes.contains_key(key) {
-            return Err(corrupt(
-                path,
-                format!(
-                    "no node {}-{}-{}-{} in the hierarchy",
-                    key.depth, key.x, key.y, key.z
-                ),
-            ));
-        }
-        if let Some(entry) = reader.hierarchy_entry(&key.to_las())
-            && entry.point_count > 0
-        {
-            entries.push(entry);
-        }
-    }
-    entries.sort_by_key(|e| e.offset);
-    let (chunks, file_len) = check_node_chunks(path, &entries)?;
-    Ok(PointReader {
-        info,
-        source: Source::Copc(Box::new(CopcSource {
-            path: path.to_path_buf(),
-            chunks,
-            file_len,
-            reader,
-            pending: entries.into(),
-            ready: VecDeque::new(),
-            read: 0,
-            broken: false,
-            radius_at,
-            lod_radius_at,
-            stopped: stopped.iter().map(|k| k.to_las()).collect(),
-        })),
-    })
+    CopcFile::open(path)?.read_nodes(keys, stopped)
+}
+
+/// `node l-x-y-z`, for messages.
+fn node_name(entry: &Entry) -> String {
+    let k = entry.key;
+    format!("node {}-{}-{}-{}", k.l, k.x, k.y, k.z)
 }
 
 /// The file's LASzip VLR, checked against its header ([`NodeChunks::new`]), the file opened
@@ -480,25 +594,6 @@ fn node_chunks(
     Ok((chunks, read, file_len))
 }
 
-/// Checks the layer sizes of the chunks of `entries` before the decoder reads them; returns
-/// the file opened for reading them, and its length.
-fn check_node_chunks(path: &Path, entries: &[Entry]) -> Result<(BufReader<File>, u64), LoadError> {
-    let (chunks, mut read, file_len) = node_chunks(path)?;
-    for entry in entries {
-        let size = u64::try_from(entry.byte_size).unwrap_or(0);
-        chunks
-            .check(path, &mut read, entry.offset, size)
-            .map_err(|detail| {
-                let k = entry.key;
-                corrupt(
-                    path,
-                    format!("node {}-{}-{}-{}: {detail}", k.l, k.x, k.y, k.z),
-                )
-            })?;
-    }
-    Ok((read, file_len))
-}
-
 /// Decoded bytes of the nodes decoded together, at most.
 const BATCH_BYTES: usize = 32 << 20;
 /// Nodes decoded together, at most, per thread.
@@ -508,22 +603,16 @@ const BATCH_PER_THREAD: usize = 4;
 /// on every core (each node is one independent LAZ chunk) and handed out in order.
 pub(crate) struct CopcSource {
     path: PathBuf,
-    /// The file, for the compressed bytes of a batch of nodes.
+    /// The file, for the compressed bytes of the nodes.
     chunks: BufReader<File>,
     file_len: u64,
-    /// The sequential decoder: a lone or oversized node, and a batch that failed (to name
-    /// the node that did).
-    reader: Reader,
+    format: Arc<NodeFormat>,
     pending: VecDeque<Entry>,
     /// Nodes decoded ahead, in order.
     ready: VecDeque<las::PointData>,
     read: u64,
     /// Set after the decoder panicked: its state is unknown.
     broken: bool,
-    /// Where the stored full-detail radius lies in a record's extra bytes.
-    radius_at: Option<usize>,
-    /// Where the stored radius for a view stopping at the point's node lies.
-    lod_radius_at: Option<usize>,
     /// Nodes whose points take the stopping radius.
     stopped: HashSet<VoxelKey>,
 }
@@ -544,27 +633,26 @@ impl CopcSource {
             None => self.decode_one(&entry)?,
         };
         self.read += data.len() as u64;
-        let at = match self.lod_radius_at {
+        let at = match self.format.lod_radius_at {
             Some(at) if self.stopped.contains(&entry.key) => Some(at),
-            _ => self.radius_at,
+            _ => self.format.radius_at,
         };
         Ok(Some(super::las::raw_chunk(&data, at)))
     }
 
     /// Decodes the next nodes of `pending` together into `ready` (leaving them pending),
     /// when there are several that fit [`BATCH_BYTES`]; leaves `ready` empty when there are
-    /// not, or when any of them fails (the sequential decoder then names it).
+    /// not, or when any of them fails (each is then decoded alone, which names the one that
+    /// fails).
     fn decode_batch(&mut self) {
-        let record_len = usize::from(self.reader.header().point_format().len());
+        let record_len = usize::from(self.format.header.point_format().len());
         let most = rayon::current_num_threads().max(1) * BATCH_PER_THREAD;
         let mut bytes = 0usize;
         let mut batch = 0usize;
         for entry in self.pending.iter().take(most) {
             let n = usize::try_from(entry.point_count).unwrap_or(usize::MAX);
             let size = n.saturating_mul(record_len);
-            let fits = entry.byte_size > 0
-                && entry.offset.saturating_add(entry.byte_size as u64) <= self.file_len;
-            if !fits || bytes.saturating_add(size) > BATCH_BYTES {
+            if bytes.saturating_add(size) > BATCH_BYTES {
                 break;
             }
             bytes += size;
@@ -573,74 +661,82 @@ impl CopcSource {
         if batch < 2 {
             return;
         }
-        let Ok(vlr) = self.reader.header().laz_vlr() else {
-            return;
-        };
         let entries: Vec<Entry> = self.pending.iter().take(batch).cloned().collect();
-        let mut compressed = Vec::new();
-        let mut table = Vec::with_capacity(batch);
-        for entry in &entries {
-            use std::io::{Read, Seek, SeekFrom};
-            let size = entry.byte_size as usize;
-            let at = compressed.len();
-            compressed.resize(at + size, 0);
-            let read = self
-                .chunks
-                .seek(SeekFrom::Start(entry.offset))
-                .and_then(|_| self.chunks.read_exact(&mut compressed[at..]));
-            if read.is_err() {
-                return;
-            }
-            table.push(laz::laszip::ChunkTableEntry {
-                point_count: entry.point_count as u64,
-                byte_count: size as u64,
-            });
-        }
-        let mut decoded = vec![0u8; bytes];
-        let done = guarded(&self.path, "decoding COPC nodes", || {
-            laz::par_decompress(&compressed, &mut decoded, &vlr, &table)
-                .map_err(|e| corrupt(&self.path, e.to_string()))
-        });
-        if done.is_err() {
-            return;
-        }
-        let header = self.reader.header();
-        let mut at = 0;
-        for entry in &entries {
-            let size = entry.point_count as usize * record_len;
-            let node = las::PointDataBuilder::new()
-                .for_header(header)
-                .build_from_bytes(decoded[at..at + size].to_vec());
-            at += size;
-            match node {
-                Ok(node) => self.ready.push_back(node),
-                Err(_) => {
-                    self.ready.clear();
-                    return;
-                }
-            }
+        if let Ok(nodes) = self.decode(&entries) {
+            self.ready.extend(nodes);
         }
     }
 
     /// Decodes the node `entry` alone.
     fn decode_one(&mut self, entry: &Entry) -> Result<las::PointData, LoadError> {
-        let (path, read, reader) = (&self.path, self.read, &mut self.reader);
-        let declared = reader.header().number_of_points();
-        let data = guarded(path, "decoding a COPC node", || {
-            reader
-                .read_entry(entry)
-                .map_err(|e| LoadError::CorruptPoints {
-                    path: path.clone(),
-                    read,
-                    declared,
-                    detail: format!(
-                        "node {}-{}-{}-{}: {e}",
-                        entry.key.l, entry.key.x, entry.key.y, entry.key.z
-                    ),
-                })
-        })
-        .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
-        Ok(data)
+        let mut nodes = self
+            .decode(std::slice::from_ref(entry))
+            .inspect_err(|e| self.broken = matches!(e, LoadError::DecoderPanic { .. }))?;
+        Ok(nodes.pop().expect("one node decoded"))
+    }
+
+    /// Decodes the chunks of `entries` (in the file's order) on every core.
+    fn decode(&mut self, entries: &[Entry]) -> Result<Vec<las::PointData>, LoadError> {
+        use std::io::{Read, Seek, SeekFrom};
+        let path = &self.path;
+        let (read, declared) = (self.read, self.format.header.number_of_points());
+        let failed = |entry: &Entry, detail: String| LoadError::CorruptPoints {
+            path: path.clone(),
+            read,
+            declared,
+            detail: format!("{}: {detail}", node_name(entry)),
+        };
+        let vlr = self
+            .format
+            .vlr
+            .as_ref()
+            .map_err(|e| failed(&entries[0], format!("the LASzip VLR does not parse: {e}")))?;
+        let record_len = usize::from(self.format.header.point_format().len());
+        let mut compressed = Vec::new();
+        let mut table = Vec::with_capacity(entries.len());
+        let mut decoded_len = 0usize;
+        for entry in entries {
+            let size = usize::try_from(entry.byte_size).unwrap_or(0);
+            let end = entry.offset.saturating_add(size as u64);
+            if size == 0 || end > self.file_len {
+                let detail = format!("its chunk ends past the file's {} bytes", self.file_len);
+                return Err(failed(entry, detail));
+            }
+            let at = compressed.len();
+            compressed.resize(at + size, 0);
+            self.chunks
+                .seek(SeekFrom::Start(entry.offset))
+                .and_then(|_| self.chunks.read_exact(&mut compressed[at..]))
+                .map_err(|e| LoadError::from_io(path, e))?;
+            let points = u64::try_from(entry.point_count).unwrap_or(0);
+            table.push(laz::laszip::ChunkTableEntry {
+                point_count: points,
+                byte_count: size as u64,
+            });
+            decoded_len = usize::try_from(points)
+                .ok()
+                .and_then(|n| n.checked_mul(record_len))
+                .and_then(|b| b.checked_add(decoded_len))
+                .ok_or_else(|| failed(entry, "too many points to decode".into()))?;
+        }
+        let mut decoded = vec![0u8; decoded_len];
+        guarded(path, "decoding COPC nodes", || {
+            laz::par_decompress(&compressed, &mut decoded, vlr, &table)
+                .map_err(|e| failed(&entries[0], e.to_string()))
+        })?;
+        let header = &self.format.header;
+        let mut at = 0;
+        let mut nodes = Vec::with_capacity(entries.len());
+        for entry in entries {
+            let size = entry.point_count as usize * record_len;
+            let node = las::PointDataBuilder::new()
+                .for_header(header)
+                .build_from_bytes(decoded[at..at + size].to_vec())
+                .map_err(|e| failed(entry, e.to_string()))?;
+            at += size;
+            nodes.push(node);
+        }
+        Ok(nodes)
     }
 
     pub(crate) fn seek_unsupported(&self, point: u64) -> LoadError {

@@ -23,7 +23,7 @@ mod units;
 mod wkt;
 
 pub use chunk::{ColorScale, PointChunk};
-pub use copc::{NodeKey, Octree, is_copc, open_nodes, open_nodes_stopping, read_octree};
+pub use copc::{CopcFile, NodeKey, Octree, is_copc, open_nodes, open_nodes_stopping, read_octree};
 pub use error::LoadError;
 pub use info::{
     AttributesPresent, ColorDepth, Crs, CrsSource, FileInfo, Format, GeoKey, LasHeaderInfo,

@@ -506,16 +506,15 @@ pub enum NodeRadii {
     Base(f32),
 }
 
-/// Node `key` of the COPC file `path` (whose octree is `octree`) as a scene around
-/// `options.origin`, filtered by `options.filter` and sized by `radii`; `stopped` says that
-/// refinement stopped at it, so its points stand for the unread ones below. The same points,
-/// positions and radii as a read of the whole selection.
+/// Node `key` of the COPC file `copc` as a scene around `options.origin`, filtered by
+/// `options.filter` and sized by `radii`; `stopped` says that refinement stopped at it, so
+/// its points stand for the unread ones below. The same points, positions and radii as a
+/// read of the whole selection.
 ///
 /// # Errors
-/// A [`LoadError`] (a corrupt node or hierarchy names the file).
+/// A [`LoadError`] (a corrupt node names the file).
 pub fn node_scene(
-    path: &Path,
-    octree: &Octree,
+    copc: &io::CopcFile,
     key: NodeKey,
     stopped: bool,
     options: &PrepareOptions,
@@ -533,17 +532,17 @@ pub fn node_scene(
     } else {
         HashSet::new()
     };
-    let (mut scene, _) =
-        load_files_with_reader(&[path.to_path_buf()], &load, &ProgressBar::hidden(), &|p| {
-            io::open_nodes_stopping(p, &[key], &stop)
-        })?;
+    let paths = [copc.path().to_path_buf()];
+    let (mut scene, _) = load_files_with_reader(&paths, &load, &ProgressBar::hidden(), &|_| {
+        copc.read_nodes(&[key], &stop)
+    })?;
     if let Some(origin) = options.origin {
         scene.recenter(origin);
     }
     let (mut scene, _) = options.filter.apply(scene, options.up, Stage::All);
     if let NodeRadii::Base(r) = radii {
         let r = if stopped {
-            r.max((octree.node_spacing(key.depth) * LOD_RADIUS_FACTOR) as f32)
+            r.max((copc.octree().node_spacing(key.depth) * LOD_RADIUS_FACTOR) as f32)
         } else {
             r
         };

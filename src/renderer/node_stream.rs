@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use super::anchor::Anchor;
 use super::error::ResidentError;
 use crate::Rendered;
-use crate::io::{self, NodeKey, Octree};
+use crate::io::{CopcFile, NodeKey};
 use crate::prepare::lod::{self, NodeRadii};
 use crate::prepare::{PrepareError, PrepareOptions};
 use crate::projection::Camera;
@@ -106,7 +106,8 @@ pub struct NodeStream {
     path: PathBuf,
     /// The file as it was when its octree was read: every frame checks it still is.
     stamp: FileStamp,
-    octree: Octree,
+    /// The file's header and hierarchy, read once for every node read.
+    copc: CopcFile,
     options: PrepareOptions,
     radii: NodeRadii,
     color: ColorRule,
@@ -132,13 +133,13 @@ impl NodeStream {
         settings: &RenderSettings,
     ) -> Result<Self, ResidentError> {
         let stamp = FileStamp::of(path)?;
-        let octree = io::read_octree(path).map_err(PrepareError::from)?;
+        let copc = CopcFile::open(path).map_err(PrepareError::from)?;
         stamp.check(path)?;
         Ok(NodeStream {
             rasterizer,
             path: path.to_path_buf(),
             stamp,
-            octree,
+            copc,
             options: *options,
             radii: rules.radii,
             color: rules.color,
@@ -200,8 +201,8 @@ impl NodeStream {
             "level of detail ({} px): {} points in {} nodes, read per frame into a cache of {} \
              on the GPU ({})",
             self.pixels,
-            self.octree.point_count,
-            self.octree.nonempty_nodes(),
+            self.copc.octree().point_count,
+            self.copc.octree().nonempty_nodes(),
             crate::memory::format_size(self.cache.budget()),
             self.rasterizer.adapter_name()
         )
@@ -221,7 +222,7 @@ impl NodeStream {
         let camera = lod::to_file(self.options.up, origin + settings.camera.center);
         let threshold =
             std::f64::consts::TAU / f64::from(settings.image.width.max(1)) * self.pixels;
-        let selection = lod::select(&self.octree, camera, threshold);
+        let selection = lod::select(self.copc.octree(), camera, threshold);
         // The octree and the nodes on the GPU are the file as it was opened: a frame drawn
         // from them and nodes of a changed file would be a wrong frame, not an error.
         self.stamp.check(&self.path)?;
@@ -240,16 +241,7 @@ impl NodeStream {
         for ids in missing.chunks(batch) {
             let scenes: Vec<_> = ids
                 .par_iter()
-                .map(|id| {
-                    lod::node_scene(
-                        &self.path,
-                        &self.octree,
-                        id.0,
-                        id.1,
-                        &self.options,
-                        self.radii,
-                    )
-                })
+                .map(|id| lod::node_scene(&self.copc, id.0, id.1, &self.options, self.radii))
                 .collect();
             for (id, scene) in ids.iter().zip(scenes) {
                 let node = self

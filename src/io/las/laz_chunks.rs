@@ -172,6 +172,7 @@ fn parallel_decoding<R: Read + Seek>(
 
 /// The layered chunk shape of a COPC file's nodes (from its LASzip VLR), for
 /// [`NodeChunks::check`]; `None` when the file's items are not layered.
+#[derive(Debug)]
 pub(in crate::io) struct NodeChunks {
     shape: Option<LayeredShape>,
 }
@@ -377,6 +378,7 @@ fn first_point_bytes(items: &[(u16, u16, u16)]) -> u64 {
 
 /// A layered chunk's header: the raw first point and the number of u32 layer sizes after the
 /// point count.
+#[derive(Debug)]
 struct LayeredShape {
     first_point: u64,
     layers: usize,
