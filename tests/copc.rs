@@ -173,10 +173,9 @@ fn one_opened_file_reads_any_nodes_from_any_thread() {
         y: 0,
         z: 0,
     };
-    let err = copc
-        .read_nodes(&[missing], &HashSet::new())
-        .err()
-        .expect("a node the hierarchy does not list");
+    let Err(err) = copc.read_nodes(&[missing], &HashSet::new()) else {
+        panic!("a node the hierarchy does not list was read");
+    };
     assert!(
         err.to_string().contains("no node 9-0-0-0 in the hierarchy"),
         "{err}"

@@ -512,7 +512,7 @@ impl CopcFile {
                 ));
             };
             if entry.point_count > 0 {
-                entries.push(entry.clone());
+                entries.push(*entry);
             }
         }
         entries.sort_by_key(|e| e.offset);
