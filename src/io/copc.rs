@@ -125,6 +125,12 @@ impl Octree {
         (low, low + DVec3::splat(side))
     }
 
+    /// Distance from `p` to the cube of node `key` (0 inside it), file units.
+    pub fn distance(&self, key: NodeKey, p: DVec3) -> f64 {
+        let (lo, hi) = self.bounds(key);
+        p.clamp(lo, hi).distance(p)
+    }
+
     /// True when the hierarchy lists a child of `key`.
     pub fn has_children(&self, key: NodeKey) -> bool {
         key.depth < MAX_DEPTH && key.children().any(|c| self.nodes.contains_key(&c))

@@ -139,8 +139,7 @@ pub fn select(octree: &Octree, camera: DVec3, threshold: f64) -> Selection {
         if !octree.nodes.contains_key(&key) {
             continue;
         }
-        let (lo, hi) = octree.bounds(key);
-        let distance = camera.clamp(lo, hi).distance(camera);
+        let distance = octree.distance(key, camera);
         let fine_enough = octree.node_spacing(key.depth) < threshold * distance;
         let children = octree.has_children(key);
         nodes.insert(key, fine_enough && children);

@@ -138,6 +138,16 @@ impl Rasterizer {
         settings: &RenderSettings,
         progress: &ProgressBar,
     ) -> Result<Rendered, RasterError> {
+        Ok(self.render_gathered_timed(pieces, settings, progress)?.0)
+    }
+
+    /// [`Rasterizer::render_gathered`] with the frame's counters and time.
+    pub fn render_gathered_timed(
+        &self,
+        pieces: &[&UploadedScene],
+        settings: &RenderSettings,
+        progress: &ProgressBar,
+    ) -> Result<(Rendered, RasterStats, FrameTiming), RasterError> {
         let origin = pieces
             .first()
             .map_or(settings.camera.center, |p| p.points_origin);
@@ -200,6 +210,6 @@ impl Rasterizer {
             batch.len = filled;
             frame.draw(&batch, progress)?;
         }
-        Ok(frame.finish()?.0)
+        frame.finish()
     }
 }

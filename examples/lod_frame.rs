@@ -1,0 +1,124 @@
+//! One ODS pair of a COPC file through its level of detail, taken apart: the points the
+//! selection reads by horizontal distance from the camera, and what the rasterizer did with
+//! them (spheres splatted, skipped whole as hidden by nearer ones) with the GPU time.
+//!
+//! `cargo run --release --example lod_frame -- FILE --camera X,Y,Z [--width 2160]
+//! [--lod 1] [--frames 3]` (X,Y,Z in file coordinates).
+
+use std::path::PathBuf;
+
+use clap::Parser;
+use glam::DVec3;
+use indicatif::ProgressBar;
+use omnicloud::prepare::{CameraChoice, LodChoice, PrepareOptions, prepare};
+use omnicloud::projection::{Camera, Image, Stereo};
+use omnicloud::raster::Rasterizer;
+use omnicloud::render::RenderSettings;
+
+#[derive(Parser)]
+struct Args {
+    /// The COPC file.
+    file: PathBuf,
+    /// Camera, file coordinates.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    camera: Vec<f64>,
+    /// Panorama width per eye.
+    #[arg(long, default_value = "2160")]
+    width: u32,
+    /// Level of detail: on, off or a threshold in pixels.
+    #[arg(long, default_value = "on")]
+    lod: LodChoice,
+    /// Frames timed (after one warm-up frame).
+    #[arg(long, default_value = "3")]
+    frames: usize,
+}
+
+/// Horizontal distance bands, file units.
+const BANDS: [f64; 5] = [25.0, 50.0, 100.0, 200.0, 400.0];
+
+fn main() -> anyhow::Result<()> {
+    let args = Args::parse();
+    let camera = DVec3::from_slice(&args.camera);
+    let options = PrepareOptions {
+        camera: CameraChoice::At(camera),
+        lod: args.lod.at_width(args.width),
+        ..PrepareOptions::default()
+    };
+    let prepared = prepare(&args.file, &options, &ProgressBar::hidden())?;
+    let scene = &prepared.scene;
+    if let Some(lod) = &prepared.lod {
+        println!("{}: {lod}", args.file.display());
+    }
+    let mut counts = [0u64; BANDS.len() + 1];
+    for p in &scene.positions {
+        let d = f64::from(p.x.hypot(p.y));
+        counts[BANDS.iter().take_while(|&&b| d >= b).count()] += 1;
+    }
+    let mut from = 0.0;
+    for (k, n) in counts.iter().enumerate() {
+        let to = BANDS
+            .get(k)
+            .map_or("beyond".to_string(), |b| format!("{b}"));
+        println!("  {from:>5}-{to:<6}: {n:>10} points");
+        from = BANDS.get(k).copied().unwrap_or(0.0);
+    }
+    let mut settings = RenderSettings::new(args.width, Camera::new(DVec3::ZERO, 0.0));
+    settings.image = Image::equirect(args.width);
+    settings.stereo = Stereo::DEFAULT_ODS;
+    let raster = Rasterizer::new()?;
+    let uploaded = raster.upload(scene, &settings)?;
+    let hidden = ProgressBar::hidden();
+    // The same points gathered as one piece in the file's order, then as distance bands
+    // nearest first (wall clock, read-back included).
+    let band_of = |p: &glam::Vec3| {
+        BANDS
+            .iter()
+            .take_while(|&&b| f64::from(p.x.hypot(p.y)) >= b)
+            .count()
+    };
+    let bands: Vec<_> = (0..=BANDS.len())
+        .map(|k| {
+            let mask: Vec<bool> = scene.positions.iter().map(|p| band_of(p) == k).collect();
+            raster.upload(&scene.select(&mask), &settings)
+        })
+        .collect::<Result<_, _>>()?;
+    for (name, pieces) in [
+        ("file order", vec![&uploaded]),
+        ("nearest band first", bands.iter().collect::<Vec<_>>()),
+    ] {
+        let mut gpu = Vec::new();
+        let mut stats = None;
+        for _ in 0..=args.frames {
+            let (rendered, s, timing) =
+                raster.render_gathered_timed(&pieces, &settings, &hidden)?;
+            gpu.push(timing.seconds * 1e3);
+            raster.recycle(rendered);
+            stats = Some(s);
+        }
+        gpu.sort_by(f64::total_cmp);
+        println!(
+            "gathered, {name}: GPU {:.1} ms; {}",
+            gpu[gpu.len() / 2],
+            stats.expect("a frame")
+        );
+    }
+    let mut gpu = Vec::new();
+    let mut stats = None;
+    for k in 0..=args.frames {
+        let (rendered, s, timing) = raster.render_uploaded(&uploaded, &settings, &hidden)?;
+        raster.recycle(rendered);
+        if k > 0 {
+            gpu.push(timing.seconds * 1e3);
+        }
+        stats = Some(s);
+    }
+    gpu.sort_by(f64::total_cmp);
+    let stats = stats.expect("one frame");
+    println!(
+        "ODS {} per eye: GPU {:.1} ms (median of {}); {stats}",
+        args.width,
+        gpu[gpu.len() / 2],
+        gpu.len()
+    );
+    Ok(())
+}
