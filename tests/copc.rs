@@ -164,9 +164,24 @@ fn one_opened_file_reads_any_nodes_from_any_thread() {
     let mut total = 0;
     for (group, got) in groups.iter().zip(&shared) {
         assert_eq!(got, &positions(io::open_nodes(&path, group).unwrap()));
+        // A node reader announces its nodes' points, not the file's.
+        let reader = copc.read_nodes(group, &HashSet::new()).unwrap();
+        assert_eq!(reader.points_to_read(), got.len() as u64);
+        assert_eq!(reader.info().point_count, POINTS);
         total += got.len() as u64;
     }
     assert_eq!(total, POINTS);
+    // So a load of some nodes counts its progress against them.
+    let progress = ProgressBar::hidden();
+    let (scene, _) = io::load_files_with_reader(
+        std::slice::from_ref(&path),
+        &LoadOptions::default(),
+        &progress,
+        &|_| copc.read_nodes(groups[1], &HashSet::new()),
+    )
+    .unwrap();
+    assert_eq!(progress.length(), Some(shared[1].len() as u64));
+    assert_eq!(scene.positions.len(), shared[1].len());
     let missing = NodeKey {
         depth: 9,
         x: 0,

@@ -624,6 +624,16 @@ pub(crate) struct CopcSource {
 }
 
 impl CopcSource {
+    /// Points the hierarchy lists for the nodes not yet read.
+    pub(super) fn points_pending(&self) -> u64 {
+        self.pending
+            .iter()
+            .map(|e| u64::try_from(e.point_count).unwrap_or(0))
+            .sum()
+    }
+}
+
+impl CopcSource {
     pub(crate) fn next_raw(&mut self) -> Result<Option<RawChunk>, LoadError> {
         if self.broken {
             return Ok(None);

@@ -184,17 +184,18 @@ pub fn load_files_with_reader(
     assert!(!paths.is_empty(), "load_files_with_progress needs a file");
     let path = paths[0].as_path();
     let mut infos = Vec::with_capacity(paths.len());
+    let mut declared = 0u64;
     let mut first_reader = None;
     for p in paths {
         let reader = open(p)?;
         infos.push(reader.info().clone());
+        declared = declared.saturating_add(reader.points_to_read());
         if first_reader.is_none() {
             first_reader = Some(reader);
         }
     }
     let info = infos[0].clone();
     let up = options.up;
-    let declared: u64 = infos.iter().map(|i| i.point_count).sum();
     // The count is untrusted (LAZ and ascii PLY cannot check it against the file size), so the
     // reservation is also bounded by the file length: real files spend at least about a byte
     // per point, and where one spends less the vectors simply grow.

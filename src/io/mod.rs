@@ -223,6 +223,15 @@ impl PointReader {
         &self.info
     }
 
+    /// Points this reader will yield as far as its header says: the file's count, or for
+    /// chosen nodes of a COPC file the sum of their counts (untrusted either way).
+    pub fn points_to_read(&self) -> u64 {
+        match &self.source {
+            Source::Copc(s) => s.points_pending(),
+            _ => self.info.point_count,
+        }
+    }
+
     /// Streams the points in chunks of at most `chunk_size` points (file coordinates).
     ///
     /// 16-bit colour is scaled to 8 bits by a [`ColorScale`] decided from the first
