@@ -8,11 +8,12 @@
 use std::path::PathBuf;
 
 use clap::Parser;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
+use omnicloud::Rendered;
 use omnicloud::prepare::{CameraChoice, LodChoice, PrepareOptions, prepare};
 use omnicloud::projection::{Camera, Image, Stereo};
-use omnicloud::raster::Rasterizer;
+use omnicloud::raster::{FrameTiming, RasterError, RasterStats, Rasterizer};
 use omnicloud::render::RenderSettings;
 
 #[derive(Parser)]
@@ -49,10 +50,10 @@ fn main() -> anyhow::Result<()> {
     if let Some(lod) = &prepared.lod {
         println!("{}: {lod}", args.file.display());
     }
+    let band: Vec<usize> = scene.positions.iter().map(band_of).collect();
     let mut counts = [0u64; BANDS.len() + 1];
-    for p in &scene.positions {
-        let d = f64::from(p.x.hypot(p.y));
-        counts[BANDS.iter().take_while(|&&b| d >= b).count()] += 1;
+    for &k in &band {
+        counts[k] += 1;
     }
     let mut from = 0.0;
     for (k, n) in counts.iter().enumerate() {
@@ -69,16 +70,10 @@ fn main() -> anyhow::Result<()> {
     let uploaded = raster.upload(scene, &settings)?;
     let hidden = ProgressBar::hidden();
     // The same points gathered as one piece in the file's order, then as distance bands
-    // nearest first (wall clock, read-back included).
-    let band_of = |p: &glam::Vec3| {
-        BANDS
-            .iter()
-            .take_while(|&&b| f64::from(p.x.hypot(p.y)) >= b)
-            .count()
-    };
+    // nearest first (GPU time, read-back excluded).
     let bands: Vec<_> = (0..=BANDS.len())
         .map(|k| {
-            let mask: Vec<bool> = scene.positions.iter().map(|p| band_of(p) == k).collect();
+            let mask: Vec<bool> = band.iter().map(|&b| b == k).collect();
             raster.upload(&scene.select(&mask), &settings)
         })
         .collect::<Result<_, _>>()?;
@@ -86,26 +81,39 @@ fn main() -> anyhow::Result<()> {
         ("file order", vec![&uploaded]),
         ("nearest band first", bands.iter().collect::<Vec<_>>()),
     ] {
-        let mut gpu = Vec::new();
-        let mut stats = None;
-        for _ in 0..=args.frames {
-            let (rendered, s, timing) =
-                raster.render_gathered_timed(&pieces, &settings, &hidden)?;
-            gpu.push(timing.seconds * 1e3);
-            raster.recycle(rendered);
-            stats = Some(s);
-        }
-        gpu.sort_by(f64::total_cmp);
-        println!(
-            "gathered, {name}: GPU {:.1} ms; {}",
-            gpu[gpu.len() / 2],
-            stats.expect("a frame")
-        );
+        let (ms, stats) = median_frame(&raster, args.frames, || {
+            raster.render_gathered_timed(&pieces, &settings, &hidden)
+        })?;
+        println!("gathered, {name}: GPU {ms:.1} ms; {stats}");
     }
+    let (ms, stats) = median_frame(&raster, args.frames, || {
+        raster.render_uploaded(&uploaded, &settings, &hidden)
+    })?;
+    println!(
+        "ODS {} per eye: GPU {ms:.1} ms (median of {}); {stats}",
+        args.width,
+        args.frames.max(1)
+    );
+    Ok(())
+}
+
+/// The distance band (index into `BANDS`, or past them) of a point, horizontally from the
+/// camera.
+fn band_of(p: &Vec3) -> usize {
+    let d = f64::from(p.x.hypot(p.y));
+    BANDS.iter().take_while(|&&b| d >= b).count()
+}
+
+/// Median GPU milliseconds of `frames` renders after one warm-up, with the last one's counters.
+fn median_frame(
+    raster: &Rasterizer,
+    frames: usize,
+    mut render: impl FnMut() -> Result<(Rendered, RasterStats, FrameTiming), RasterError>,
+) -> anyhow::Result<(f64, RasterStats)> {
     let mut gpu = Vec::new();
     let mut stats = None;
-    for k in 0..=args.frames {
-        let (rendered, s, timing) = raster.render_uploaded(&uploaded, &settings, &hidden)?;
+    for k in 0..=frames.max(1) {
+        let (rendered, s, timing) = render()?;
         raster.recycle(rendered);
         if k > 0 {
             gpu.push(timing.seconds * 1e3);
@@ -113,12 +121,5 @@ fn main() -> anyhow::Result<()> {
         stats = Some(s);
     }
     gpu.sort_by(f64::total_cmp);
-    let stats = stats.expect("one frame");
-    println!(
-        "ODS {} per eye: GPU {:.1} ms (median of {}); {stats}",
-        args.width,
-        gpu[gpu.len() / 2],
-        gpu.len()
-    );
-    Ok(())
+    Ok((gpu[gpu.len() / 2], stats.expect("one frame")))
 }

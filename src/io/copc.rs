@@ -631,9 +631,7 @@ impl CopcSource {
             .map(|e| u64::try_from(e.point_count).unwrap_or(0))
             .sum()
     }
-}
 
-impl CopcSource {
     pub(crate) fn next_raw(&mut self) -> Result<Option<RawChunk>, LoadError> {
         if self.broken {
             return Ok(None);
