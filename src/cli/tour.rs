@@ -413,12 +413,14 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
         let c = stream.cache_counts();
         let (used, budget) = stream.cache_bytes();
         say(format!(
-            "node cache: {} read and uploaded, {} reused, {} evicted; {} of {} on the GPU",
+            "node cache: {} read and uploaded, {} reused, {} evicted; {} of {} on the GPU; \
+             {} node draws skipped as hidden behind nearer ones",
             c.misses,
             c.hits,
             c.evicted,
             crate::memory::format_size(used),
-            crate::memory::format_size(budget)
+            crate::memory::format_size(budget),
+            stream.hidden_nodes()
         ));
     }
     encode_video(args, &say)

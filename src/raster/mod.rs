@@ -27,6 +27,7 @@ mod imposter;
 mod key_targets;
 mod lock;
 mod params;
+mod piece_occlusion;
 pub mod pipeline_cache;
 mod pixel_trig;
 pub mod probe;

@@ -16,6 +16,7 @@ use super::error::RasterError;
 use super::expand::{ExpandBuffers, KeyedBuffers, empty_draw_args};
 use super::frame_buffers::{FrameBuffers, FrameShape, MAX_EYES, Spare};
 use super::params::Params;
+use super::piece_occlusion;
 use super::pixel_trig;
 use super::rasterizer::{Pipelines, Rasterizer};
 use super::sizing::{FrameSizing, splats};
@@ -326,6 +327,62 @@ impl<'r> RasterFrame<'r> {
             }
         }
         Ok(())
+    }
+
+    /// Whether the frame keeps occlusion tiles that [`RasterFrame::occlusion_tiles`] can read:
+    /// on the keyed path, in the full equirect, without a depth map (whose spheres each have
+    /// their own view).
+    pub(crate) fn keeps_tiles(&self) -> bool {
+        self.output == self.settings
+            && self.settings.image.projection.is_full_equirect()
+            && self.settings.depth_map.is_none()
+            && self.buffers.images.keys(0).is_some()
+    }
+
+    /// The occlusion tiles of every eye as what is drawn so far shows them (raised to the
+    /// keys first, as the next batch would); `None` where the frame keeps none.
+    pub(crate) fn occlusion_tiles(
+        &mut self,
+    ) -> Result<Option<piece_occlusion::OcclusionTiles>, RasterError> {
+        let Some(resolve) = self
+            .pipelines
+            .resolve
+            .as_ref()
+            .filter(|_| self.keeps_tiles())
+        else {
+            return Ok(None);
+        };
+        let ctx = &self.rasterizer.ctx;
+        let device = &ctx.device;
+        let img = self.settings.image;
+        let mut eyes = Vec::with_capacity(self.views.len());
+        for (eye, view) in self.views.iter().enumerate() {
+            let keys = self.buffers.images.keys(eye).expect("keyed");
+            let read = ctx.scoped("reading back the occlusion tiles", || {
+                let read = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("occlusion tile read-back"),
+                    size: keys.tiles.size(),
+                    usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                    mapped_at_creation: false,
+                });
+                let params = self.params(eye, (0, 0));
+                ctx.queue
+                    .write_buffer(&self.buffers.params, 0, bytemuck::bytes_of(&params));
+                let mut encoder = device.create_command_encoder(&Default::default());
+                if self.drawn_any[eye] {
+                    let bg = resolve.bind(device, &self.buffers.params, &keys.keys, &keys.tiles);
+                    resolve.dispatch(&mut encoder, &bg, &self.trig, (img.width, img.height));
+                }
+                encoder.copy_buffer_to_buffer(&keys.tiles, 0, &read, 0, None);
+                ctx.queue.submit([encoder.finish()]);
+                read
+            })?;
+            let tiles = map_read(ctx, &read, "reading back the occlusion tiles")?;
+            eyes.push((*view, bytemuck::pod_collect_to_vec(&tiles)));
+        }
+        Ok(Some(piece_occlusion::OcclusionTiles::new(
+            img.width, img.height, eyes,
+        )))
     }
 
     /// The `Params` of eye `eye` drawing the batch of `count` points from `first`.

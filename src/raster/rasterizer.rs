@@ -94,6 +94,7 @@ impl Rasterizer {
                 splat_limit: DEFAULT_SPLAT_LIMIT,
                 pair_splat_limit: DEFAULT_PAIR_SPLAT_LIMIT,
                 batch_limit: None,
+                skip_hidden_pieces: true,
             },
             pipeline_cache,
         })
@@ -152,6 +153,12 @@ impl Rasterizer {
     /// Public for tests: smaller batches exercise the batched path; results must not change.
     pub fn set_batch_limit(&mut self, points: Option<u32>) {
         self.knobs.batch_limit = points;
+    }
+
+    /// Whether [`Rasterizer::render_gathered`] skips pieces that nearer ones hide whole (on by
+    /// default). Public for tests and benchmarks: results must not change.
+    pub fn set_skip_hidden_pieces(&mut self, skip: bool) {
+        self.knobs.skip_hidden_pieces = skip;
     }
 
     /// Sets the largest sphere (pixels per side of its bounds) that the compute splat ray

@@ -80,6 +80,8 @@ pub struct Knobs {
     pub pair_splat_limit: u32,
     /// Cap on the points per batch.
     pub batch_limit: Option<u32>,
+    /// Whether a gathered frame skips pieces hidden whole (`piece_occlusion`).
+    pub skip_hidden_pieces: bool,
 }
 
 /// Bytes of the keys of one `width x height` eye: one `u64` per pixel.
@@ -198,6 +200,7 @@ mod tests {
         splat_limit: 16,
         pair_splat_limit: 64,
         batch_limit: None,
+        skip_hidden_pieces: true,
     };
 
     fn settings(width: u32, proxy: Proxy, imposter: Imposter) -> RenderSettings {

@@ -53,6 +53,11 @@ pub struct RasterStats {
     pub wide: u64,
     /// Expand/draw batches submitted (per eye).
     pub batches: u64,
+    /// Pieces of a gathered frame skipped unread, hidden whole by the nearer ones drawn before
+    /// them in every eye.
+    pub hidden_pieces: u64,
+    /// Their points, once per eye (not counted in `drawn`).
+    pub hidden_points: u64,
 }
 
 impl RasterStats {
@@ -74,6 +79,8 @@ impl RasterStats {
             vertices: total(|e| e.vertices),
             wide: total(|e| e.wide),
             batches,
+            hidden_pieces: 0,
+            hidden_points: 0,
         })
     }
 }
@@ -83,7 +90,8 @@ impl std::fmt::Display for RasterStats {
         write!(
             f,
             "{} proxies drawn ({} special, {} seam copies, {} splatted, {} hidden by nearer ones, \
-             {} cast wide, {} vertices, {} batches), {} points inside the viewing circle",
+             {} cast wide, {} vertices, {} batches), {} points inside the viewing circle, \
+             {} pieces ({} points) hidden whole",
             self.drawn,
             self.special,
             self.seam_copies,
@@ -92,7 +100,9 @@ impl std::fmt::Display for RasterStats {
             self.wide,
             self.vertices,
             self.batches,
-            self.culled
+            self.culled,
+            self.hidden_pieces,
+            self.hidden_points
         )
     }
 }
@@ -138,6 +148,8 @@ mod tests {
                 vertices: 66,
                 wide: 99,
                 batches: 5,
+                hidden_pieces: 0,
+                hidden_points: 0,
             }
         );
         let over = EyeStats {

@@ -1,6 +1,7 @@
 //! A whole scene uploaded once (in chunks of one storage binding each) and rendered any
 //! number of times.
 
+use glam::{DVec3, Vec3};
 use indicatif::ProgressBar;
 
 use crate::frame::Rendered;
@@ -9,6 +10,8 @@ use crate::scene::Scene;
 
 use super::chunk::{GpuChunk, GpuPoint, pack_color};
 use super::error::RasterError;
+use super::piece_occlusion::OcclusionTiles;
+use super::raster_frame::RasterFrame;
 use super::rasterizer::Rasterizer;
 use super::stats::RasterStats;
 use super::timing::FrameTiming;
@@ -20,6 +23,9 @@ pub struct UploadedScene {
     points_origin: glam::DVec3,
     color: ColorMode,
     points: u64,
+    /// The box of its spheres (centres plus radii) relative to `points_origin`, as the
+    /// shaders see them; `None` when empty.
+    extent: Option<(DVec3, DVec3)>,
 }
 
 impl UploadedScene {
@@ -41,6 +47,12 @@ impl UploadedScene {
             .map(|c| u64::from(c.capacity))
             .sum::<u64>()
             * per_point
+    }
+
+    /// Its box of spheres relative to the camera centre `c`.
+    fn extent_from(&self, c: DVec3) -> Option<(DVec3, DVec3)> {
+        let shift = self.points_origin - c;
+        self.extent.map(|(lo, hi)| (lo + shift, hi + shift))
     }
 }
 
@@ -85,9 +97,15 @@ impl Rasterizer {
         let per_chunk = self.points_per_chunk() as usize;
         let mut chunks = Vec::new();
         let mut start = 0;
+        let mut extent: Option<(DVec3, DVec3)> = None;
         while start < scene.len() {
             let end = (start + per_chunk).min(scene.len());
             let pts: Vec<GpuPoint> = (start..end).map(|i| GpuPoint::of(scene, i, c)).collect();
+            for p in &pts {
+                let (centre, r) = (Vec3::from(p.position).as_dvec3(), f64::from(p.radius));
+                let (lo, hi) = (centre - DVec3::splat(r), centre + DVec3::splat(r));
+                extent = Some(extent.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
+            }
             let cols: Vec<u32> = colors[start..end].iter().copied().map(pack_color).collect();
             let mut chunk = GpuChunk::new(&self.ctx, (end - start) as u32)?;
             chunk.write(&self.ctx, &pts, &cols)?;
@@ -99,6 +117,7 @@ impl Rasterizer {
             points_origin: c,
             color: settings.color,
             points: scene.len() as u64,
+            extent,
         })
     }
 
@@ -131,7 +150,9 @@ impl Rasterizer {
     /// Renders pieces of one cloud uploaded apart (each by [`Rasterizer::upload_colored`]
     /// under the same settings, so relative to the same point and coloured alike), gathered
     /// on the GPU into batches of up to one chunk: a frame then costs a draw per batch, not
-    /// per piece, and no point crosses from the host again.
+    /// per piece, and no point crosses from the host again. The pieces are drawn nearest
+    /// first, and where the frame keeps occlusion tiles a piece hidden whole behind those
+    /// drawn before it is skipped (`piece_occlusion`): the image is the same.
     pub fn render_gathered(
         &self,
         pieces: &[&UploadedScene],
@@ -163,53 +184,133 @@ impl Rasterizer {
         let capacity = total.clamp(1, self.points_per_chunk().min(u64::from(u32::MAX))) as u32;
         let mut frame = self.begin_frame(settings, u64::from(capacity))?;
         frame.set_points_origin(origin);
-        progress.set_length(total * frame.eyes() as u64);
-        let mut batch = GpuChunk::new(&self.ctx, capacity)?;
-        let device = &self.ctx.device;
-        let point_bytes = size_of::<GpuPoint>() as u64;
-        let color_bytes = size_of::<u32>() as u64;
-        let mut encoder = device.create_command_encoder(&Default::default());
-        let mut filled = 0u32;
-        for chunk in pieces.iter().flat_map(|p| &p.chunks) {
-            let mut from = 0u32;
-            while from < chunk.len {
-                let n = (chunk.len - from).min(capacity - filled);
-                let (src, dst, len) = (u64::from(from), u64::from(filled), u64::from(n));
-                encoder.copy_buffer_to_buffer(
-                    &chunk.points,
-                    src * point_bytes,
-                    &batch.points,
-                    dst * point_bytes,
-                    len * point_bytes,
-                );
-                encoder.copy_buffer_to_buffer(
-                    &chunk.colors,
-                    src * color_bytes,
-                    &batch.colors,
-                    dst * color_bytes,
-                    len * color_bytes,
-                );
-                from += n;
-                filled += n;
-                if filled == capacity {
-                    // The copies reach the queue before the batch's draw, which submits its
-                    // own work; the next copies follow that draw.
-                    let full = std::mem::replace(
-                        &mut encoder,
-                        device.create_command_encoder(&Default::default()),
-                    );
-                    self.ctx.queue.submit([full.finish()]);
-                    batch.len = filled;
-                    frame.draw(&batch, progress)?;
-                    filled = 0;
-                }
+        let eyes = frame.eyes() as u64;
+        progress.set_length(total * eyes);
+        let camera = settings.camera.center;
+        let skips = self.knobs().skip_hidden_pieces && frame.keeps_tiles();
+        // Nearest first: what is drawn early hides more of what follows.
+        let mut order: Vec<(f64, &UploadedScene)> = pieces
+            .iter()
+            .map(|p| {
+                let d = p
+                    .extent_from(camera)
+                    .map_or(0.0, |(lo, hi)| DVec3::ZERO.clamp(lo, hi).length());
+                (d, *p)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut batch = Gather::new(self, capacity)?;
+        let mut tiles: Option<OcclusionTiles> = None;
+        // The tiles are read back once an eighth of the points is drawn, then each time the
+        // points drawn double.
+        let mut next_look = total.div_ceil(8);
+        let mut gathered = 0u64;
+        let mut hidden = (0u64, 0u64);
+        for (k, (_, piece)) in order.iter().enumerate() {
+            if let (Some(t), Some((lo, hi))) = (&tiles, piece.extent_from(camera))
+                && t.hide(lo, hi)
+            {
+                hidden.0 += 1;
+                hidden.1 += piece.points;
+                progress.inc(piece.points * eyes);
+                continue;
+            }
+            for chunk in &piece.chunks {
+                batch.add(chunk, &mut frame, progress)?;
+            }
+            gathered += piece.points;
+            if skips && gathered >= next_look && k + 1 < order.len() {
+                batch.flush(&mut frame, progress)?;
+                tiles = frame.occlusion_tiles()?;
+                next_look = gathered * 2;
             }
         }
-        if filled > 0 {
-            self.ctx.queue.submit([encoder.finish()]);
-            batch.len = filled;
-            frame.draw(&batch, progress)?;
+        batch.flush(&mut frame, progress)?;
+        let (rendered, mut stats, timing) = frame.finish()?;
+        stats.hidden_pieces = hidden.0;
+        stats.hidden_points = hidden.1 * eyes;
+        Ok((rendered, stats, timing))
+    }
+}
+
+/// One batch of gathered points being filled by buffer copies, drawn whenever it is full.
+struct Gather<'r> {
+    rasterizer: &'r Rasterizer,
+    batch: GpuChunk,
+    encoder: wgpu::CommandEncoder,
+    filled: u32,
+}
+
+impl<'r> Gather<'r> {
+    fn new(rasterizer: &'r Rasterizer, capacity: u32) -> Result<Self, RasterError> {
+        Ok(Gather {
+            rasterizer,
+            batch: GpuChunk::new(&rasterizer.ctx, capacity)?,
+            encoder: rasterizer
+                .ctx
+                .device
+                .create_command_encoder(&Default::default()),
+            filled: 0,
+        })
+    }
+
+    /// Copies `chunk`'s points into the batch, drawing it into `frame` each time it fills.
+    fn add(
+        &mut self,
+        chunk: &GpuChunk,
+        frame: &mut RasterFrame<'_>,
+        progress: &ProgressBar,
+    ) -> Result<(), RasterError> {
+        let point_bytes = size_of::<GpuPoint>() as u64;
+        let color_bytes = size_of::<u32>() as u64;
+        let capacity = self.batch.capacity;
+        let mut from = 0u32;
+        while from < chunk.len {
+            let n = (chunk.len - from).min(capacity - self.filled);
+            let (src, dst, len) = (u64::from(from), u64::from(self.filled), u64::from(n));
+            self.encoder.copy_buffer_to_buffer(
+                &chunk.points,
+                src * point_bytes,
+                &self.batch.points,
+                dst * point_bytes,
+                len * point_bytes,
+            );
+            self.encoder.copy_buffer_to_buffer(
+                &chunk.colors,
+                src * color_bytes,
+                &self.batch.colors,
+                dst * color_bytes,
+                len * color_bytes,
+            );
+            from += n;
+            self.filled += n;
+            if self.filled == capacity {
+                self.flush(frame, progress)?;
+            }
         }
-        frame.finish()
+        Ok(())
+    }
+
+    /// Draws what the batch holds into `frame`.
+    fn flush(
+        &mut self,
+        frame: &mut RasterFrame<'_>,
+        progress: &ProgressBar,
+    ) -> Result<(), RasterError> {
+        if self.filled == 0 {
+            return Ok(());
+        }
+        // The copies reach the queue before the batch's draw, which submits its own work; the
+        // next copies follow that draw.
+        let ctx = &self.rasterizer.ctx;
+        let full = std::mem::replace(
+            &mut self.encoder,
+            ctx.device.create_command_encoder(&Default::default()),
+        );
+        ctx.queue.submit([full.finish()]);
+        self.batch.len = self.filled;
+        frame.draw(&self.batch, progress)?;
+        self.filled = 0;
+        Ok(())
     }
 }

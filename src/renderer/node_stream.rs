@@ -38,6 +38,10 @@ pub struct FrameNodes {
     pub points: u64,
     /// Nodes read and uploaded for this frame.
     pub uploaded: usize,
+    /// Nodes skipped unread by the rasterizer, hidden whole behind nearer ones.
+    pub hidden: u64,
+    /// Points in them.
+    pub hidden_points: u64,
 }
 
 /// How a node stream reads, sizes, colours and keeps its nodes.
@@ -116,6 +120,8 @@ pub struct NodeStream {
     pixels: f64,
     cache: NodeCache<NodeId, UploadedScene>,
     last: FrameNodes,
+    /// Nodes skipped as hidden, summed over the frames.
+    hidden: u64,
 }
 
 impl NodeStream {
@@ -152,6 +158,7 @@ impl NodeStream {
             pixels: rules.pixels,
             cache: NodeCache::new(rules.budget),
             last: FrameNodes::default(),
+            hidden: 0,
         })
     }
 
@@ -193,6 +200,11 @@ impl NodeStream {
     /// What the last frame drew.
     pub fn last_frame(&self) -> FrameNodes {
         self.last
+    }
+
+    /// Nodes the frames so far skipped as hidden behind nearer ones, summed.
+    pub fn hidden_nodes(&self) -> u64 {
+        self.hidden
     }
 
     /// What renders, for messages.
@@ -254,7 +266,7 @@ impl NodeStream {
             self.stamp.check(&self.path)?;
         }
         let uploaded = fresh.len();
-        let rendered = {
+        let (rendered, stats, _) = {
             let pieces: Vec<&UploadedScene> = selection
                 .read
                 .iter()
@@ -262,7 +274,7 @@ impl NodeStream {
                 .chain(fresh.iter().map(|(_, n)| n))
                 .collect();
             self.rasterizer
-                .render_gathered(&pieces, settings, progress)?
+                .render_gathered_timed(&pieces, settings, progress)?
         };
         for (id, node) in fresh {
             let bytes = node.gpu_bytes();
@@ -273,7 +285,10 @@ impl NodeStream {
             nodes: selection.read.len(),
             points: selection.points,
             uploaded,
+            hidden: stats.hidden_pieces,
+            hidden_points: stats.hidden_points / settings.views().len().max(1) as u64,
         };
+        self.hidden += stats.hidden_pieces;
         Ok(rendered)
     }
 }
