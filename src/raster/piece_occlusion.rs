@@ -60,7 +60,7 @@ impl OcclusionTiles {
         };
         let (lo, hi) = (lo - DVec3::splat(h), hi + DVec3::splat(h));
         let near = DVec3::ZERO.clamp(lo, hi).length() * (1.0 - NEAR_SLACK);
-        if !(near > 0.0) {
+        if near.is_nan() || near <= 0.0 {
             return false;
         }
         let Some(px) = box_pixels(view, (self.width, self.height), lo, hi) else {
@@ -154,7 +154,7 @@ fn longitudes(corners: &[DVec3]) -> (Option<DVec2>, f64) {
         })
         .max_by(|a, b| a.0.total_cmp(&b.0))
         .expect("eight corners");
-    if gap <= PI || feet.iter().any(|f| *f == DVec2::ZERO) {
+    if gap <= PI || feet.contains(&DVec2::ZERO) {
         return (None, 0.0);
     }
     let lo = lams[after];

@@ -26,6 +26,88 @@ pub struct UploadedScene {
     /// The box of its spheres (centres plus radii) relative to `points_origin`, as the
     /// shaders see them; `None` when empty.
     extent: Option<(DVec3, DVec3)>,
+    /// Its points in runs of one cell each, chunk by chunk in order.
+    cells: Vec<Cell>,
+}
+
+/// A run of a chunk's points that share one cell of the chunk's box, and their box of
+/// spheres relative to the points' origin: a gathered frame skips a cell hidden whole.
+#[derive(Debug, Clone, Copy)]
+struct Cell {
+    chunk: usize,
+    start: u32,
+    end: u32,
+    lo: DVec3,
+    hi: DVec3,
+}
+
+/// Cells along each axis of a chunk's box.
+const CELLS_PER_AXIS: usize = 4;
+/// Chunks of fewer points stay one cell: a cell costs a test and a copy.
+const MIN_POINTS_TO_SPLIT: usize = 4096;
+
+/// Orders `pts` (and `cols` alike) cell by cell of their box's `CELLS_PER_AXIS`³ grid, the
+/// order within a cell kept, and returns the runs as cells of chunk `chunk`.
+fn sort_into_cells(pts: &mut Vec<GpuPoint>, cols: &mut Vec<u32>, chunk: usize) -> Vec<Cell> {
+    let centre = |p: &GpuPoint| Vec3::from(p.position);
+    let (lo, hi) = pts.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(a, b), p| (a.min(centre(p)), b.max(centre(p))),
+    );
+    let n = if pts.len() >= MIN_POINTS_TO_SPLIT {
+        CELLS_PER_AXIS
+    } else {
+        1
+    };
+    let scale = Vec3::splat(n as f32) / (hi - lo).max(Vec3::splat(f32::MIN_POSITIVE));
+    let cell_of = |p: &GpuPoint| {
+        let t = ((centre(p) - lo) * scale)
+            .floor()
+            .clamp(Vec3::ZERO, Vec3::splat((n - 1) as f32));
+        (t.x as usize * n + t.y as usize) * n + t.z as usize
+    };
+    let keys: Vec<usize> = pts.iter().map(cell_of).collect();
+    // A counting sort: stable, one pass.
+    let mut starts = vec![0usize; n * n * n + 1];
+    for &k in &keys {
+        starts[k + 1] += 1;
+    }
+    for k in 0..n * n * n {
+        starts[k + 1] += starts[k];
+    }
+    let mut at = starts.clone();
+    let mut order = vec![0usize; pts.len()];
+    for (i, &k) in keys.iter().enumerate() {
+        order[at[k]] = i;
+        at[k] += 1;
+    }
+    *pts = order.iter().map(|&i| pts[i]).collect();
+    *cols = order.iter().map(|&i| cols[i]).collect();
+    starts
+        .windows(2)
+        .filter(|w| w[1] > w[0])
+        .map(|w| {
+            let (lo, hi) = sphere_box(&pts[w[0]..w[1]]);
+            Cell {
+                chunk,
+                start: w[0] as u32,
+                end: w[1] as u32,
+                lo,
+                hi,
+            }
+        })
+        .collect()
+}
+
+/// The box of the spheres `pts` (centres plus radii), in f64.
+fn sphere_box(pts: &[GpuPoint]) -> (DVec3, DVec3) {
+    pts.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(a, b), p| {
+            let (centre, r) = (Vec3::from(p.position).as_dvec3(), f64::from(p.radius));
+            (a.min(centre - r), b.max(centre + r))
+        },
+    )
 }
 
 impl UploadedScene {
@@ -97,16 +179,12 @@ impl Rasterizer {
         let per_chunk = self.points_per_chunk() as usize;
         let mut chunks = Vec::new();
         let mut start = 0;
-        let mut extent: Option<(DVec3, DVec3)> = None;
+        let mut cells = Vec::new();
         while start < scene.len() {
             let end = (start + per_chunk).min(scene.len());
-            let pts: Vec<GpuPoint> = (start..end).map(|i| GpuPoint::of(scene, i, c)).collect();
-            for p in &pts {
-                let (centre, r) = (Vec3::from(p.position).as_dvec3(), f64::from(p.radius));
-                let (lo, hi) = (centre - DVec3::splat(r), centre + DVec3::splat(r));
-                extent = Some(extent.map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi))));
-            }
-            let cols: Vec<u32> = colors[start..end].iter().copied().map(pack_color).collect();
+            let mut pts: Vec<GpuPoint> = (start..end).map(|i| GpuPoint::of(scene, i, c)).collect();
+            let mut cols: Vec<u32> = colors[start..end].iter().copied().map(pack_color).collect();
+            cells.extend(sort_into_cells(&mut pts, &mut cols, chunks.len()));
             let mut chunk = GpuChunk::new(&self.ctx, (end - start) as u32)?;
             chunk.write(&self.ctx, &pts, &cols)?;
             chunks.push(chunk);
@@ -117,7 +195,11 @@ impl Rasterizer {
             points_origin: c,
             color: settings.color,
             points: scene.len() as u64,
-            extent,
+            extent: cells
+                .iter()
+                .map(|c| (c.lo, c.hi))
+                .reduce(|(a, b), (lo, hi)| (a.min(lo), b.max(hi))),
+            cells,
         })
     }
 
@@ -215,10 +297,35 @@ impl Rasterizer {
                 progress.inc(piece.points * eyes);
                 continue;
             }
-            for chunk in &piece.chunks {
-                batch.add(chunk, &mut frame, progress)?;
+            // Runs of cells in view, each copied at once.
+            let shift = piece.points_origin - camera;
+            let mut run: Option<(usize, u32, u32)> = None;
+            for cell in &piece.cells {
+                let shown = !tiles
+                    .as_ref()
+                    .is_some_and(|t| t.hide(cell.lo + shift, cell.hi + shift));
+                let n = u64::from(cell.end - cell.start);
+                if !shown {
+                    hidden.1 += n;
+                    progress.inc(n * eyes);
+                    continue;
+                }
+                gathered += n;
+                run = match run {
+                    Some((chunk, start, end)) if chunk == cell.chunk && end == cell.start => {
+                        Some((chunk, start, cell.end))
+                    }
+                    other => {
+                        if let Some((chunk, start, end)) = other {
+                            batch.add(&piece.chunks[chunk], start..end, &mut frame, progress)?;
+                        }
+                        Some((cell.chunk, cell.start, cell.end))
+                    }
+                };
             }
-            gathered += piece.points;
+            if let Some((chunk, start, end)) = run {
+                batch.add(&piece.chunks[chunk], start..end, &mut frame, progress)?;
+            }
             if skips && gathered >= next_look && k + 1 < order.len() {
                 batch.flush(&mut frame, progress)?;
                 tiles = frame.occlusion_tiles()?;
@@ -254,19 +361,21 @@ impl<'r> Gather<'r> {
         })
     }
 
-    /// Copies `chunk`'s points into the batch, drawing it into `frame` each time it fills.
+    /// Copies `chunk`'s points `range` into the batch, drawing it into `frame` each time it
+    /// fills.
     fn add(
         &mut self,
         chunk: &GpuChunk,
+        range: std::ops::Range<u32>,
         frame: &mut RasterFrame<'_>,
         progress: &ProgressBar,
     ) -> Result<(), RasterError> {
         let point_bytes = size_of::<GpuPoint>() as u64;
         let color_bytes = size_of::<u32>() as u64;
         let capacity = self.batch.capacity;
-        let mut from = 0u32;
-        while from < chunk.len {
-            let n = (chunk.len - from).min(capacity - self.filled);
+        let mut from = range.start;
+        while from < range.end {
+            let n = (range.end - from).min(capacity - self.filled);
             let (src, dst, len) = (u64::from(from), u64::from(self.filled), u64::from(n));
             self.encoder.copy_buffer_to_buffer(
                 &chunk.points,

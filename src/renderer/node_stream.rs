@@ -40,7 +40,8 @@ pub struct FrameNodes {
     pub uploaded: usize,
     /// Nodes skipped unread by the rasterizer, hidden whole behind nearer ones.
     pub hidden: u64,
-    /// Points in them.
+    /// Points skipped unread as hidden: those of the hidden nodes and of hidden cells of the
+    /// others.
     pub hidden_points: u64,
 }
 
