@@ -53,11 +53,7 @@ impl OcclusionTiles {
     }
 
     fn eye_hides(&self, view: &View, tiles: &[u32], lo: DVec3, hi: DVec3) -> bool {
-        let h = if view.eye_sign != 0.0 {
-            view.half_ipd
-        } else {
-            0.0
-        };
+        let h = ray_origin_reach(view);
         let (lo, hi) = (lo - DVec3::splat(h), hi + DVec3::splat(h));
         let near = DVec3::ZERO.clamp(lo, hi).length() * (1.0 - NEAR_SLACK);
         if near.is_nan() || near <= 0.0 {
@@ -77,6 +73,16 @@ impl OcclusionTiles {
                     .all(|tx| tiles[ty as usize * across + tx as usize] > key)
             })
         })
+    }
+}
+
+/// How far from C the rays of `view` start: half the IPD for a stereo eye, 0 for mono (as
+/// `ray_origin_reach` in `shaders/occlusion.wgsl`).
+fn ray_origin_reach(view: &View) -> f64 {
+    if view.eye_sign != 0.0 {
+        view.half_ipd
+    } else {
+        0.0
     }
 }
 
@@ -289,7 +295,7 @@ mod tests {
                 };
                 for v in settings.views() {
                     for (lo, hi) in boxes {
-                        let h = if v.eye_sign != 0.0 { v.half_ipd } else { 0.0 };
+                        let h = ray_origin_reach(&v);
                         let grown = (lo - DVec3::splat(h), hi + DVec3::splat(h));
                         let px = box_pixels(&v, size, grown.0, grown.1).unwrap();
                         let image = Equirect {

@@ -41,7 +41,7 @@ struct Cell {
     hi: DVec3,
 }
 
-/// Cells along each axis of a chunk's box.
+/// Cells along each axis of a chunk's box (at most 16: a cell's key is a `u16`).
 const CELLS_PER_AXIS: usize = 4;
 /// Chunks of fewer points stay one cell: a cell costs a test and a copy.
 const MIN_POINTS_TO_SPLIT: usize = 4096;
@@ -66,23 +66,27 @@ fn sort_into_cells(pts: &mut Vec<GpuPoint>, cols: &mut Vec<u32>, chunk: usize) -
             .clamp(Vec3::ZERO, Vec3::splat((n - 1) as f32));
         (t.x as usize * n + t.y as usize) * n + t.z as usize
     };
-    let keys: Vec<usize> = pts.iter().map(cell_of).collect();
-    // A counting sort: stable, one pass.
+    // A counting sort, stable: the points and colours are scattered once into their cells'
+    // places (two bytes of key a point beside the copies, for up to 16³ cells).
+    let keys: Vec<u16> = pts.iter().map(|p| cell_of(p) as u16).collect();
     let mut starts = vec![0usize; n * n * n + 1];
     for &k in &keys {
-        starts[k + 1] += 1;
+        starts[usize::from(k) + 1] += 1;
     }
     for k in 0..n * n * n {
         starts[k + 1] += starts[k];
     }
     let mut at = starts.clone();
-    let mut order = vec![0usize; pts.len()];
+    let mut sorted_pts = pts.clone();
+    let mut sorted_cols = cols.clone();
     for (i, &k) in keys.iter().enumerate() {
-        order[at[k]] = i;
-        at[k] += 1;
+        let slot = &mut at[usize::from(k)];
+        sorted_pts[*slot] = pts[i];
+        sorted_cols[*slot] = cols[i];
+        *slot += 1;
     }
-    *pts = order.iter().map(|&i| pts[i]).collect();
-    *cols = order.iter().map(|&i| cols[i]).collect();
+    *pts = sorted_pts;
+    *cols = sorted_cols;
     starts
         .windows(2)
         .filter(|w| w[1] > w[0])
