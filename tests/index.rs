@@ -230,6 +230,74 @@ fn stored_radii_are_kept_by_the_level_of_detail_read() {
     );
 }
 
+/// A level-of-detail read decodes the attributes its render asks for and leaves the others
+/// out, with the same points, radii and colours as a read of every attribute.
+#[test]
+fn a_read_decodes_only_the_attributes_asked_for() {
+    use omnicloud::io::PointFields;
+    use omnicloud::prepare::{CameraChoice, Lod, PrepareOptions, prepare};
+    use omnicloud::render::ColorMode;
+    let dir = tempfile::tempdir().unwrap();
+    let (out, _) = index_into(
+        &[data_common::autzen()],
+        dir.path(),
+        &IndexOptions::default(),
+    );
+    let read = |fields: PointFields| {
+        let options = PrepareOptions {
+            camera: CameraChoice::At(glam::DVec3::new(636_600.0, 849_200.0, 1_500.0)),
+            lod: Lod::Pixels {
+                width: 512,
+                pixels: 1.0,
+            },
+            fields,
+            ..PrepareOptions::default()
+        };
+        prepare(&out, &options, &ProgressBar::hidden()).unwrap()
+    };
+    let all = read(PointFields::ALL);
+    let lod = all.lod.as_ref().unwrap();
+    // Measured: 39,705 points (9 nodes, levels 0-1), most where refinement stopped.
+    assert!((30_000..50_000).contains(&lod.points_read), "{lod}");
+    let a = &all.scene.attributes;
+    assert!(a.rgb.is_some() && a.intensity.is_some() && a.classification.is_some());
+    for (mode, rgb, intensity, classification) in [
+        (ColorMode::Auto, true, false, false),
+        (ColorMode::Elevation, false, false, false),
+        (ColorMode::Intensity, false, true, false),
+        (ColorMode::Classification, false, false, true),
+    ] {
+        let some = read(mode.fields());
+        assert_eq!(some.scene.positions, all.scene.positions, "{mode:?}");
+        assert_eq!(some.scene.radii, all.scene.radii, "{mode:?}");
+        let b = &some.scene.attributes;
+        assert_eq!(b.rgb.is_some(), rgb, "{mode:?}");
+        assert_eq!(b.intensity.is_some(), intensity, "{mode:?}");
+        assert_eq!(b.classification.is_some(), classification, "{mode:?}");
+        // Return numbers decode with the coordinates.
+        assert_eq!(b.returns, a.returns, "{mode:?}");
+        if rgb {
+            assert_eq!(b.rgb, a.rgb);
+        }
+        if intensity {
+            assert_eq!(b.intensity, a.intensity);
+        }
+        if classification {
+            assert_eq!(b.classification, a.classification);
+        }
+    }
+    // A class filter reads the classification whatever the colour.
+    let filtered = PrepareOptions {
+        filter: omnicloud::prepare::PointFilter {
+            drop_classes: Some(omnicloud::prepare::filter::ClassSet::of(&[7])),
+            ..Default::default()
+        },
+        fields: ColorMode::Elevation.fields(),
+        ..PrepareOptions::default()
+    };
+    assert!(filtered.fields_read().classification);
+}
+
 /// A fixed `--radius` is metres, stored in the unit the file declares (Autzen: international
 /// feet), or the file's unit as given with `Units::File`.
 #[test]

@@ -189,6 +189,8 @@ pub fn run(given: &BenchArgs) -> Result<()> {
         let width = args.width.unwrap_or(DEFAULT_WIDTH);
         let options = PrepareOptions {
             lod: args.lod.unwrap_or(LodChoice::Pixels(1.0)).at_width(width),
+            // The benchmark colours as `auto` does.
+            fields: ColorMode::Auto.fields(),
             ..args.view.prepare_options()
         };
         let prepared = prepare(file, &options, &ProgressBar::hidden())?;

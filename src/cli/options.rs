@@ -244,6 +244,7 @@ impl ViewArgs {
             },
             origin: None,
             lod: crate::prepare::Lod::Off,
+            fields: crate::io::PointFields::ALL,
         }
     }
 }

@@ -109,6 +109,7 @@ impl RenderArgs {
         PrepareOptions {
             lod: self.lod.at_width(self.render_width()),
             height: self.view.eye_height(self.height),
+            fields: self.draw.color.fields(),
             ..self.view.prepare_options()
         }
     }

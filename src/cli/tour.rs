@@ -252,7 +252,10 @@ pub fn run(given: &TourArgs, matches: &clap::ArgMatches) -> Result<()> {
             Some(p) => tour::Route::Path(p.clone()),
             None => tour::Route::Stations,
         },
-        prepare: args.view.prepare_options(),
+        prepare: crate::prepare::PrepareOptions {
+            fields: args.draw.color.fields(),
+            ..args.view.prepare_options()
+        },
         height: args.view.eye_height(args.height),
         sampling: match args.frames {
             Some(n) => Sampling::Frames(n as usize),

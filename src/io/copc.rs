@@ -9,7 +9,7 @@
 use super::error::LoadError;
 use super::guard::guarded;
 use super::info::FileInfo;
-use super::{PointReader, RawChunk, Source};
+use super::{PointFields, PointReader, RawChunk, Source};
 use glam::DVec3;
 use las::copc::{Entry, VoxelKey};
 use std::collections::{HashMap, HashSet, VecDeque};
@@ -543,6 +543,7 @@ impl CopcFile {
                 read: 0,
                 broken: false,
                 stopped: stopped.iter().map(|k| k.to_las()).collect(),
+                fields: PointFields::ALL,
             })),
         })
     }
@@ -621,6 +622,8 @@ pub(crate) struct CopcSource {
     broken: bool,
     /// Nodes whose points take the stopping radius.
     stopped: HashSet<VoxelKey>,
+    /// The attributes decoded.
+    fields: PointFields,
 }
 
 impl CopcSource {
@@ -651,7 +654,7 @@ impl CopcSource {
             Some(at) if self.stopped.contains(&entry.key) => Some(at),
             _ => self.format.radius_at,
         };
-        Ok(Some(super::las::raw_chunk(&data, at)))
+        Ok(Some(super::las::raw_chunk(&data, at, self.fields)))
     }
 
     /// Decodes the next nodes of `pending` together into `ready` (leaving them pending),
@@ -735,8 +738,14 @@ impl CopcSource {
         }
         let mut decoded = vec![0u8; decoded_len];
         guarded(path, "decoding COPC nodes", || {
-            laz::par_decompress(&compressed, &mut decoded, vlr, &table)
-                .map_err(|e| failed(&entries[0], e.to_string()))
+            laz::par_decompress_selective(
+                &compressed,
+                &mut decoded,
+                vlr,
+                &table,
+                self.fields.laz_selection(),
+            )
+            .map_err(|e| failed(&entries[0], e.to_string()))
         })?;
         let header = &self.format.header;
         let mut at = 0;
@@ -751,6 +760,12 @@ impl CopcSource {
             nodes.push(node);
         }
         Ok(nodes)
+    }
+
+    /// Decodes only `fields` of the nodes still to read.
+    pub(super) fn decode_only(&mut self, fields: PointFields) {
+        self.fields = fields;
+        self.ready.clear();
     }
 
     pub(crate) fn seek_unsupported(&self, point: u64) -> LoadError {

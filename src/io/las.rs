@@ -2,6 +2,7 @@
 
 use super::chunk::{RawChunk, RawRgb};
 use super::error::LoadError;
+use super::fields::PointFields;
 use super::guard::guarded;
 use super::info::{
     AttributesPresent, ColorDepth, Crs, FileInfo, Format, GeoKey, LasHeaderInfo, VlrInfo,
@@ -442,7 +443,11 @@ impl LasSource {
             return Ok(None);
         }
         self.read += got;
-        Ok(Some(raw_chunk(&self.buffer, self.radius_at)))
+        Ok(Some(raw_chunk(
+            &self.buffer,
+            self.radius_at,
+            PointFields::ALL,
+        )))
     }
 }
 
@@ -462,7 +467,13 @@ pub(super) fn stored_f32_field(header: &las::Header, name: &str) -> Option<usize
 
 /// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike); `radius_at`
 /// locates a stored f32 radius in the records' extra bytes.
-pub(super) fn raw_chunk(pd: &las::PointData, radius_at: Option<usize>) -> RawChunk {
+/// The points of `pd` with the attributes of `fields` (those not asked for may hold
+/// anything: a selective decoder skipped them).
+pub(super) fn raw_chunk(
+    pd: &las::PointData,
+    radius_at: Option<usize>,
+    fields: PointFields,
+) -> RawChunk {
     let radius = radius_at.map(|at| {
         super::extra_bytes::f32_column(
             pd.raw_bytes(),
@@ -480,9 +491,10 @@ pub(super) fn raw_chunk(pd: &las::PointData, radius_at: Option<usize>) -> RawChu
             .collect(),
         rgb: pd
             .rgb()
+            .filter(|_| fields.rgb)
             .map(|it| RawRgb::Bits16(it.map(|(r, g, b)| [r, g, b]).collect())),
-        intensity: Some(pd.intensity().collect()),
-        classification: Some(pd.classification().collect()),
+        intensity: fields.intensity.then(|| pd.intensity().collect()),
+        classification: fields.classification.then(|| pd.classification().collect()),
         returns: Some(
             pd.return_number()
                 .zip(pd.number_of_returns())
@@ -490,6 +502,9 @@ pub(super) fn raw_chunk(pd: &las::PointData, radius_at: Option<usize>) -> RawChu
                 .collect(),
         ),
         radius,
-        gps_time: pd.gps_time().map(Iterator::collect),
+        gps_time: pd
+            .gps_time()
+            .filter(|_| fields.gps_time)
+            .map(Iterator::collect),
     }
 }

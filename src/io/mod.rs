@@ -13,6 +13,7 @@ pub mod copc;
 pub mod e57;
 mod error;
 pub mod extra_bytes;
+mod fields;
 mod guard;
 mod info;
 mod las;
@@ -25,6 +26,7 @@ mod wkt;
 pub use chunk::{ColorScale, PointChunk};
 pub use copc::{CopcFile, NodeKey, Octree, is_copc, open_nodes, open_nodes_stopping, read_octree};
 pub use error::LoadError;
+pub use fields::PointFields;
 pub use info::{
     AttributesPresent, ColorDepth, Crs, CrsSource, FileInfo, Format, GeoKey, LasHeaderInfo,
     PlyEncoding, VlrInfo, asprs_class_name,
@@ -269,6 +271,16 @@ impl PointReader {
     /// failed seek the reader's position is unknown: open the file again.
     pub fn seek(&mut self, point: u64) -> Result<(), LoadError> {
         self.source.seek(point)
+    }
+
+    /// Asks for `fields` only: the readers that can skip attributes without decoding them
+    /// (COPC nodes) leave the others out; the rest read every attribute they have.
+    #[must_use]
+    pub fn decode_only(mut self, fields: PointFields) -> Self {
+        if let Source::Copc(s) = &mut self.source {
+            s.decode_only(fields);
+        }
+        self
     }
 
     /// Reads raw (unscaled) chunks: for [`load_scene`], which decides the colour scale from

@@ -264,6 +264,14 @@ impl fmt::Display for FilterCounts {
 }
 
 impl PointFilter {
+    /// The attributes the filter reads besides positions (return numbers are always read).
+    pub fn fields(&self) -> crate::io::PointFields {
+        crate::io::PointFields {
+            classification: self.classes.is_some() || self.drop_classes.is_some(),
+            ..crate::io::PointFields::POSITIONS
+        }
+    }
+
     /// True when the filter keeps every point.
     pub fn keeps_all(&self) -> bool {
         *self == PointFilter::default()

@@ -450,6 +450,7 @@ pub fn read(
         }
     };
     let camera_file = to_file(options.up, camera_world);
+    let fields = options.fields_read();
     let files: Vec<(PathBuf, Octree, Selection)> = paths
         .iter()
         .zip(octrees)
@@ -468,7 +469,7 @@ pub fn read(
             .iter()
             .find(|(q, _, _)| q == p)
             .ok_or_else(|| LoadError::NotFound { path: p.into() })?;
-        io::open_nodes_stopping(p, &s.read, &s.stopped())
+        Ok(io::open_nodes_stopping(p, &s.read, &s.stopped())?.decode_only(fields))
     })?;
     let report_lod = LodReport {
         points_read: files.iter().map(|(_, _, s)| s.points).sum(),
@@ -533,7 +534,9 @@ pub fn node_scene(
     };
     let paths = [copc.path().to_path_buf()];
     let (mut scene, _) = load_files_with_reader(&paths, &load, &ProgressBar::hidden(), &|_| {
-        copc.read_nodes(&[key], &stop)
+        Ok(copc
+            .read_nodes(&[key], &stop)?
+            .decode_only(options.fields_read()))
     })?;
     if let Some(origin) = options.origin {
         scene.recenter(origin);

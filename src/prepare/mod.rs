@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 use indicatif::ProgressBar;
 
-use crate::io::{LoadError, LoadOptions, LoadReport, Up, load_files_with_progress};
+use crate::io::{LoadError, LoadOptions, LoadReport, PointFields, Up, load_files_with_progress};
 use crate::scene::Scene;
 
 pub use filter::{FilterCounts, FilterError, PointFilter};
@@ -48,6 +48,17 @@ pub struct PrepareOptions {
     pub origin: Option<DVec3>,
     /// Level of detail for COPC input ([`lod`]); off by default.
     pub lod: Lod,
+    /// The attributes the render needs (its colour's): a COPC read through the level of
+    /// detail decodes only these and the filter's, leaving the others out of the scene.
+    /// Every attribute by default.
+    pub fields: PointFields,
+}
+
+impl PrepareOptions {
+    /// The attributes a read for these options decodes: the render's and the filter's.
+    pub fn fields_read(&self) -> PointFields {
+        self.fields.or(self.filter.fields())
+    }
 }
 
 /// A scan ready to render: its local frame centred on the camera (or on the given origin).

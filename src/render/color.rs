@@ -23,6 +23,33 @@ pub enum ColorMode {
     Image,
 }
 
+impl ColorMode {
+    /// The point attributes the mode colours from (elevation and flat need none).
+    pub fn fields(self) -> crate::io::PointFields {
+        use crate::io::PointFields;
+        match self {
+            ColorMode::Auto | ColorMode::Rgb => PointFields {
+                rgb: true,
+                ..PointFields::POSITIONS
+            },
+            ColorMode::Image => PointFields {
+                rgb: true,
+                intensity: true,
+                ..PointFields::POSITIONS
+            },
+            ColorMode::Intensity => PointFields {
+                intensity: true,
+                ..PointFields::POSITIONS
+            },
+            ColorMode::Classification => PointFields {
+                classification: true,
+                ..PointFields::POSITIONS
+            },
+            ColorMode::Elevation | ColorMode::Flat => PointFields::POSITIONS,
+        }
+    }
+}
+
 /// `auto`, `rgb`, `intensity`, `classification`, `elevation` or `flat`.
 impl std::str::FromStr for ColorMode {
     type Err = String;

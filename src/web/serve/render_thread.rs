@@ -457,6 +457,7 @@ fn node_stream(
     let options = PrepareOptions {
         origin: Some(scan.scene.origin),
         up: lod.up,
+        fields: settings.color.fields(),
         ..PrepareOptions::default()
     };
     let rules = NodeRules {
