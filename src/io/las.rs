@@ -465,10 +465,9 @@ pub(super) fn stored_f32_field(header: &las::Header, name: &str) -> Option<usize
     (at + 4 <= extra).then_some(at)
 }
 
-/// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike); `radius_at`
-/// locates a stored f32 radius in the records' extra bytes.
-/// The points of `pd` with the attributes of `fields` (those not asked for may hold
-/// anything: a selective decoder skipped them).
+/// The decoded points of a [`las::PointData`] as a raw chunk (LAS and COPC alike), with the
+/// attributes of `fields` only (the others may hold anything: a selective decoder skipped
+/// them); `radius_at` locates a stored f32 radius in the records' extra bytes.
 pub(super) fn raw_chunk(
     pd: &las::PointData,
     radius_at: Option<usize>,
