@@ -152,8 +152,9 @@ pub fn render(
         up: cloud.up,
         radius: view.radius,
         filter: view.filter,
-        origin: None,
         lod: Lod::Off,
+        // The scene is in memory already: no read, so no attribute selection applies.
+        ..PrepareOptions::default()
     };
     let settings = RenderSettings {
         image,
