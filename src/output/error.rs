@@ -83,7 +83,16 @@ pub enum OutputError {
         /// What was asked for.
         what: &'static str,
     },
-    /// JPEG encoding or decoding failed.
+    /// JPEG encoding failed.
+    #[error("{path}: JPEG encoding failed: {source}")]
+    JpegEncode {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: jpeg_encoder::EncodingError,
+    },
+    /// JPEG decoding failed.
     #[error("{path}: JPEG error: {source}")]
     Jpeg {
         /// The file concerned.
