@@ -223,6 +223,7 @@ impl Grid {
             *cursor = self.keys.partition_point(|k| *k < first + offset);
         }
         let mut rows: [Range<usize>; 9] = Default::default();
+        let mut block = Block::default();
         for c in cells {
             let key = self.keys[c];
             let points = self.starts[c] as usize..self.starts[c + 1] as usize;
@@ -244,6 +245,7 @@ impl Grid {
                 }
                 *row = self.starts[*cursor] as usize..self.starts[end] as usize;
             }
+            block.gather(&self.sorted, &rows);
             let block_low = self.low_corner(key) - DVec3::splat(self.cell);
             let block_high = block_low + DVec3::splat(3.0 * self.cell);
             for at in points {
@@ -252,11 +254,7 @@ impl Grid {
                     continue;
                 }
                 let q = &self.sorted[at];
-                best.fill(f32::INFINITY);
-                for row in &rows {
-                    nearest(&self.sorted[row.clone()], q, &mut best);
-                }
-                let kth = best[wanted - 1];
+                let kth = block.kth(q, &mut best);
                 let qd = DVec3::from_array(q.map(f64::from));
                 let way_out = (qd - block_low).min(block_high - qd).min_element();
                 if f64::from(kth) <= way_out * way_out * (1.0 - SLACK) {
@@ -322,20 +320,125 @@ impl Grid {
     }
 }
 
+/// Candidates measured a lane group at a time.
+const LANES: usize = 8;
+
+/// The points of a cell's 3 × 3 × 3 block, axis by axis, padded to whole lane groups with
+/// points at infinity (never nearer than anything), so that a query measures its distances
+/// to them [`LANES`] at a time.
+#[derive(Default)]
+struct Block {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+}
+
+impl Block {
+    /// Takes the points of `rows` of `sorted`, in that order.
+    fn gather(&mut self, sorted: &[[f32; 3]], rows: &[Range<usize>]) {
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+        for p in rows.iter().flat_map(|r| &sorted[r.clone()]) {
+            self.x.push(p[0]);
+            self.y.push(p[1]);
+            self.z.push(p[2]);
+        }
+        let padded = self.x.len().next_multiple_of(LANES);
+        for axis in [&mut self.x, &mut self.y, &mut self.z] {
+            axis.resize(padded, f32::INFINITY);
+        }
+    }
+
+    /// The `best.len()`-th smallest squared distance from `q` to the block's points, with
+    /// `best` left holding the smallest ones ascending: [`nearest`]'s distances, measured a
+    /// lane group at a time, a group merged only when it holds one below the current bound.
+    fn kth(&self, q: &[f32; 3], best: &mut [f32]) -> f32 {
+        let wanted = best.len();
+        if wanted > SHORT {
+            best.fill(f32::INFINITY);
+            self.merge(q, best, |b: &[f32]| b[wanted - 1], insert);
+            return best[wanted - 1];
+        }
+        // A fixed array, merged without branches; its entries past `wanted` only ever hold
+        // larger distances, so the bound is still entry `wanted - 1`.
+        let mut short = [f32::INFINITY; SHORT];
+        self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
+        best.copy_from_slice(&short[..wanted]);
+        short[wanted - 1]
+    }
+
+    /// Measures the block's points from `q` a lane group at a time and hands `merge` each
+    /// distance of a group holding one below `bound` of the nearest so far.
+    #[inline(always)]
+    fn merge<S: ?Sized>(
+        &self,
+        q: &[f32; 3],
+        nearest: &mut S,
+        bound: impl Fn(&S) -> f32,
+        mut merge: impl FnMut(f32, &mut S),
+    ) {
+        let groups = self
+            .x
+            .chunks_exact(LANES)
+            .zip(self.y.chunks_exact(LANES))
+            .zip(self.z.chunks_exact(LANES));
+        for ((x, y), z) in groups {
+            let mut d = [0.0f32; LANES];
+            for l in 0..LANES {
+                // Summed as `distance2` sums them, so the bits agree.
+                let (tx, ty, tz) = (q[0] - x[l], q[1] - y[l], q[2] - z[l]);
+                d[l] = tx * tx + ty * ty + tz * tz;
+            }
+            let last = bound(nearest);
+            let mut any = false;
+            for v in d {
+                any |= v < last;
+            }
+            if any {
+                for v in d {
+                    merge(v, nearest);
+                }
+            }
+        }
+    }
+}
+
+/// Neighbours wanted up to which a query keeps its nearest in a fixed array.
+const SHORT: usize = 16;
+
+/// [`insert`] into a fixed array, without branches: entry `i` becomes the smaller of itself
+/// and the larger of its predecessor and `d`.
+#[inline(always)]
+fn insert_short(d: f32, best: &mut [f32; SHORT]) {
+    let old = *best;
+    let pick_min = |a: f32, b: f32| if a < b { a } else { b };
+    let pick_max = |a: f32, b: f32| if a > b { a } else { b };
+    best[0] = pick_min(old[0], d);
+    for i in 1..SHORT {
+        best[i] = pick_min(old[i], pick_max(old[i - 1], d));
+    }
+}
+
+/// Puts `d` into `best` (ascending) when it is below the last, dropping the last.
+#[inline(always)]
+fn insert(d: f32, best: &mut [f32]) {
+    let last = best.len() - 1;
+    if d < best[last] {
+        let mut at = last;
+        while at > 0 && best[at - 1] > d {
+            best[at] = best[at - 1];
+            at -= 1;
+        }
+        best[at] = d;
+    }
+}
+
 /// Merges `candidates` into `best`, the ascending smallest squared distances from `q` so far.
 #[inline]
 fn nearest(candidates: &[[f32; 3]], q: &[f32; 3], best: &mut [f32]) {
-    let last = best.len() - 1;
     for p in candidates {
-        let d = distance2(q, p);
-        if d < best[last] {
-            let mut at = last;
-            while at > 0 && best[at - 1] > d {
-                best[at] = best[at - 1];
-                at -= 1;
-            }
-            best[at] = d;
-        }
+        insert(distance2(q, p), best);
     }
 }
 
@@ -441,7 +544,7 @@ mod tests {
         points.extend([[-400.0, 7.0, 3.0], [900.0, -900.0, -50.0]]);
         points.extend(vec![[5.0, 5.0, 0.0]; 30]);
         let mut ball = 0;
-        for k in [1, 8, 40] {
+        for k in [1, 8, 15, 40] {
             let (grid, paths) = kth_with_paths(&points, 0, k);
             same_bits(&grid, &reference(&points, 0, k));
             // The lone points leave the grid for the tree.
