@@ -50,9 +50,9 @@ impl Cube {
     pub fn key_at(&self, depth: u32, p: DVec3) -> NodeKey {
         let n = f64::from(depth).exp2();
         let low = self.center - DVec3::splat(self.halfsize);
-        let cell = |v: f64, lo: f64| {
-            (((v - lo) / (2.0 * self.halfsize) * n).floor()).clamp(0.0, n - 1.0) as u32
-        };
+        // Clamped to zero or more, truncation floors (and needs no libm call without SSE4.1).
+        let cell =
+            |v: f64, lo: f64| ((v - lo) / (2.0 * self.halfsize) * n).clamp(0.0, n - 1.0) as u32;
         NodeKey {
             depth,
             x: cell(p.x, low.x),
@@ -146,7 +146,8 @@ pub fn sample(cube: &Cube, positions: &[DVec3]) -> Vec<Node> {
         let mut children: [Vec<u32>; 8] = Default::default();
         for i in points {
             let p = positions[i as usize];
-            let c = ((p - low) * per_cell).floor();
+            // Clamped to zero or more, truncation floors.
+            let c = (p - low) * per_cell;
             let axis = |v: f64| v.clamp(0.0, f64::from(GRID - 1)) as u32;
             let cell = (axis(c.z) * GRID + axis(c.y)) * GRID + axis(c.x);
             if cells.take(cell) {

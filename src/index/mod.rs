@@ -283,6 +283,7 @@ fn file_chunk(chunk: &RawChunk, layout: Layout, q: &Quantizer, cube: &Cube, dept
             let mut tally = Tally::new();
             let mut groups: Vec<(NodeKey, Vec<u8>)> = Vec::new();
             let mut at: HashMap<NodeKey, usize> = HashMap::new();
+            let mut last: Option<(NodeKey, usize)> = None;
             let mut record = Vec::with_capacity(layout.len);
             let points = t * FILE_TASK..((t + 1) * FILE_TASK).min(n);
             let read = points.len() as u64;
@@ -296,10 +297,18 @@ fn file_chunk(chunk: &RawChunk, layout: Layout, q: &Quantizer, cube: &Cube, dept
                 layout.push(&mut record, xyz, &fields(chunk, i));
                 tally.add(xyz, &record, has_gps);
                 let key = cube.key_at(depth, p);
-                let g = *at.entry(key).or_insert_with(|| {
-                    groups.push((key, Vec::new()));
-                    groups.len() - 1
-                });
+                // Scans run along surfaces: most points fall in the bucket of the one before.
+                let g = match last {
+                    Some((k, g)) if k == key => g,
+                    _ => {
+                        let g = *at.entry(key).or_insert_with(|| {
+                            groups.push((key, Vec::new()));
+                            groups.len() - 1
+                        });
+                        last = Some((key, g));
+                        g
+                    }
+                };
                 groups[g].1.extend_from_slice(&record);
             }
             Filed {
