@@ -350,21 +350,21 @@ impl Block {
         }
     }
 
-    /// The `best.len()`-th smallest squared distance from `q` to the block's points, with
-    /// `best` left holding the smallest ones ascending: [`nearest`]'s distances, measured a
-    /// lane group at a time, a group merged only when it holds one below the current bound.
-    fn kth(&self, q: &[f32; 3], best: &mut [f32]) -> f32 {
-        let wanted = best.len();
+    /// The `scratch.len()`-th smallest squared distance from `q` to the block's points:
+    /// [`nearest`]'s distances, measured a lane group at a time, a group merged only when it
+    /// holds one below the current bound. `scratch` holds the nearest when more are wanted
+    /// than [`SHORT`].
+    fn kth(&self, q: &[f32; 3], scratch: &mut [f32]) -> f32 {
+        let wanted = scratch.len();
         if wanted > SHORT {
-            best.fill(f32::INFINITY);
-            self.merge(q, best, |b: &[f32]| b[wanted - 1], insert);
-            return best[wanted - 1];
+            scratch.fill(f32::INFINITY);
+            self.merge(q, scratch, |b: &[f32]| b[wanted - 1], insert);
+            return scratch[wanted - 1];
         }
         // A fixed array, merged without branches; its entries past `wanted` only ever hold
         // larger distances, so the bound is still entry `wanted - 1`.
         let mut short = [f32::INFINITY; SHORT];
         self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
-        best.copy_from_slice(&short[..wanted]);
         short[wanted - 1]
     }
 
@@ -384,12 +384,7 @@ impl Block {
             .zip(self.y.chunks_exact(LANES))
             .zip(self.z.chunks_exact(LANES));
         for ((x, y), z) in groups {
-            let mut d = [0.0f32; LANES];
-            for l in 0..LANES {
-                // Summed as `distance2` sums them, so the bits agree.
-                let (tx, ty, tz) = (q[0] - x[l], q[1] - y[l], q[2] - z[l]);
-                d[l] = tx * tx + ty * ty + tz * tz;
-            }
+            let d: [f32; LANES] = std::array::from_fn(|l| distance2(q, &[x[l], y[l], z[l]]));
             let last = bound(nearest);
             let mut any = false;
             for v in d {
