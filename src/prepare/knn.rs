@@ -147,6 +147,8 @@ struct Grid {
     starts: Vec<u32>,
     /// The points, cell by cell.
     sorted: Vec<[f32; 3]>,
+    /// The same points axis by axis, so that a block copies whole rows of cells.
+    by_axis: [Vec<f32>; 3],
     /// Each sorted point's index in the input.
     index: Vec<u32>,
 }
@@ -194,13 +196,15 @@ impl Grid {
         }
         starts.push(keyed.len() as u32);
         let index: Vec<u32> = keyed.iter().map(|(_, i)| *i).collect();
-        let sorted = index.iter().map(|i| points[*i as usize]).collect();
+        let sorted: Vec<[f32; 3]> = index.iter().map(|i| points[*i as usize]).collect();
+        let by_axis = std::array::from_fn(|a| sorted.iter().map(|p| p[a]).collect());
         Grid {
             origin,
             cell,
             keys,
             starts,
             sorted,
+            by_axis,
             index,
         }
     }
@@ -245,7 +249,7 @@ impl Grid {
                 }
                 *row = self.starts[*cursor] as usize..self.starts[end] as usize;
             }
-            block.gather(&self.sorted, &rows);
+            block.gather(&self.by_axis, &rows);
             let block_low = self.low_corner(key) - DVec3::splat(self.cell);
             let block_high = block_low + DVec3::splat(3.0 * self.cell);
             for at in points {
@@ -334,18 +338,18 @@ struct Block {
 }
 
 impl Block {
-    /// Takes the points of `rows` of `sorted`, in that order.
-    fn gather(&mut self, sorted: &[[f32; 3]], rows: &[Range<usize>]) {
-        self.x.clear();
-        self.y.clear();
-        self.z.clear();
-        for p in rows.iter().flat_map(|r| &sorted[r.clone()]) {
-            self.x.push(p[0]);
-            self.y.push(p[1]);
-            self.z.push(p[2]);
-        }
-        let padded = self.x.len().next_multiple_of(LANES);
-        for axis in [&mut self.x, &mut self.y, &mut self.z] {
+    /// Takes the points of `rows` of the coordinates `by_axis`, in that order.
+    fn gather(&mut self, by_axis: &[Vec<f32>; 3], rows: &[Range<usize>]) {
+        let points: usize = rows.iter().map(ExactSizeIterator::len).sum();
+        let padded = points.next_multiple_of(LANES);
+        for (axis, from) in [&mut self.x, &mut self.y, &mut self.z]
+            .into_iter()
+            .zip(by_axis)
+        {
+            axis.clear();
+            for r in rows {
+                axis.extend_from_slice(&from[r.clone()]);
+            }
             axis.resize(padded, f32::INFINITY);
         }
     }
@@ -363,6 +367,11 @@ impl Block {
         }
         // A fixed array, merged without branches; its entries past `wanted` only ever hold
         // larger distances, so the bound is still entry `wanted - 1`.
+        if wanted <= SHORTER {
+            let mut short = [f32::INFINITY; SHORTER];
+            self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
+            return short[wanted - 1];
+        }
         let mut short = [f32::INFINITY; SHORT];
         self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
         short[wanted - 1]
@@ -401,16 +410,18 @@ impl Block {
 
 /// Neighbours wanted up to which a query keeps its nearest in a fixed array.
 const SHORT: usize = 16;
+/// A smaller fixed array for the default neighbour count and below: less to merge.
+const SHORTER: usize = 12;
 
 /// [`insert`] into a fixed array, without branches: entry `i` becomes the smaller of itself
 /// and the larger of its predecessor and `d`.
 #[inline(always)]
-fn insert_short(d: f32, best: &mut [f32; SHORT]) {
+fn insert_short<const N: usize>(d: f32, best: &mut [f32; N]) {
     let old = *best;
     let pick_min = |a: f32, b: f32| if a < b { a } else { b };
     let pick_max = |a: f32, b: f32| if a > b { a } else { b };
     best[0] = pick_min(old[0], d);
-    for i in 1..SHORT {
+    for i in 1..N {
         best[i] = pick_min(old[i], pick_max(old[i - 1], d));
     }
 }
@@ -539,7 +550,7 @@ mod tests {
         points.extend([[-400.0, 7.0, 3.0], [900.0, -900.0, -50.0]]);
         points.extend(vec![[5.0, 5.0, 0.0]; 30]);
         let mut ball = 0;
-        for k in [1, 8, 15, 40] {
+        for k in [1, 8, 11, 12, 15, 40] {
             let (grid, paths) = kth_with_paths(&points, 0, k);
             same_bits(&grid, &reference(&points, 0, k));
             // The lone points leave the grid for the tree.
