@@ -143,11 +143,9 @@ struct Grid {
     cell: f64,
     /// Occupied cells' keys, ascending.
     keys: Vec<u64>,
-    /// Where each cell's points start in `sorted`, and the end after the last.
+    /// Where each cell's points start in `by_axis`, and the end after the last.
     starts: Vec<u32>,
-    /// The points, cell by cell.
-    sorted: Vec<[f32; 3]>,
-    /// The same points axis by axis, so that a block copies whole rows of cells.
+    /// The points, cell by cell, axis by axis (so that a block copies whole rows of cells).
     by_axis: [Vec<f32>; 3],
     /// Each sorted point's index in the input.
     index: Vec<u32>,
@@ -196,14 +194,13 @@ impl Grid {
         }
         starts.push(keyed.len() as u32);
         let index: Vec<u32> = keyed.iter().map(|(_, i)| *i).collect();
-        let sorted: Vec<[f32; 3]> = index.iter().map(|i| points[*i as usize]).collect();
-        let by_axis = std::array::from_fn(|a| sorted.iter().map(|p| p[a]).collect());
+        let by_axis =
+            std::array::from_fn(|a| index.iter().map(|i| points[*i as usize][a]).collect());
         Grid {
             origin,
             cell,
             keys,
             starts,
-            sorted,
             by_axis,
             index,
         }
@@ -257,7 +254,7 @@ impl Grid {
                 if (i as usize) < from {
                     continue;
                 }
-                let q = &self.sorted[at];
+                let q = &self.point(at);
                 let kth = block.kth(q, &mut best);
                 let qd = DVec3::from_array(q.map(f64::from));
                 let way_out = (qd - block_low).min(block_high - qd).min_element();
@@ -299,10 +296,15 @@ impl Grid {
                 let a = self.keys.partition_point(|k| *k < pack([low[0], y, z]));
                 let b = self.keys.partition_point(|k| *k <= pack([high[0], y, z]));
                 let points = self.starts[a] as usize..self.starts[b] as usize;
-                nearest(&self.sorted[points], q, best);
+                nearest(points.map(|at| self.point(at)), q, best);
             }
         }
         Some(best[best.len() - 1])
+    }
+
+    /// The sorted point `at`.
+    fn point(&self, at: usize) -> [f32; 3] {
+        self.by_axis.each_ref().map(|axis| axis[at])
     }
 
     /// Padded cell indices of `p`, clamped to the keys' range.
@@ -368,11 +370,16 @@ impl Block {
         // A fixed array, merged without branches; its entries past `wanted` only ever hold
         // larger distances, so the bound is still entry `wanted - 1`.
         if wanted <= SHORTER {
-            let mut short = [f32::INFINITY; SHORTER];
-            self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
-            return short[wanted - 1];
+            self.kth_short::<SHORTER>(q, wanted)
+        } else {
+            self.kth_short::<SHORT>(q, wanted)
         }
-        let mut short = [f32::INFINITY; SHORT];
+    }
+
+    /// [`Self::kth`] for `wanted` at most `N`, kept in an `N`-entry array.
+    #[inline(always)]
+    fn kth_short<const N: usize>(&self, q: &[f32; 3], wanted: usize) -> f32 {
+        let mut short = [f32::INFINITY; N];
         self.merge(q, &mut short, |b| b[wanted - 1], insert_short);
         short[wanted - 1]
     }
@@ -442,9 +449,9 @@ fn insert(d: f32, best: &mut [f32]) {
 
 /// Merges `candidates` into `best`, the ascending smallest squared distances from `q` so far.
 #[inline]
-fn nearest(candidates: &[[f32; 3]], q: &[f32; 3], best: &mut [f32]) {
+fn nearest(candidates: impl IntoIterator<Item = [f32; 3]>, q: &[f32; 3], best: &mut [f32]) {
     for p in candidates {
-        insert(distance2(q, p), best);
+        insert(distance2(q, &p), best);
     }
 }
 
