@@ -119,6 +119,7 @@ fn main() -> anyhow::Result<()> {
                     LodChoice::Pixels(p) => p,
                     LodChoice::Off => 0.0,
                 },
+                floor: omnicloud::prepare::lod::LOD_FLOOR_POINTS,
                 budget: 4 << 30,
             },
             &settings,

@@ -77,6 +77,13 @@ pub fn raytrace_estimate(loaded: u64, traced: u64, width: u32, eyes: u32) -> Mem
     }
 }
 
+/// Points the ray tracer holds within `cap` at `width x width/2` per eye for `eyes` eyes,
+/// every point traced: the inverse of [`raytrace_estimate`].
+pub fn raytrace_points_within(cap: u64, width: u32, eyes: u32) -> u64 {
+    let fixed = raytrace_estimate(0, 0, width, eyes).total();
+    cap.saturating_sub(fixed) / RAYTRACE_BYTES_PER_POINT
+}
+
 /// Estimate for a file from its header's point count, keeping one point in `keep_every`.
 pub fn raytrace_estimate_for(
     info: &FileInfo,
@@ -299,6 +306,16 @@ pub fn check_budget(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn points_within_a_cap_are_the_estimates_inverse() {
+        for (cap, width, eyes) in [(120 << 20, 128, 1), (2 << 30, 3840, 2), (1 << 20, 512, 2)] {
+            let n = raytrace_points_within(cap, width, eyes);
+            let fits = |n: u64| raytrace_estimate(n, n, width, eyes).total() <= cap;
+            assert!(n == 0 || fits(n), "{cap} {width} {eyes}: {n}");
+            assert!(!fits(n + 1), "{cap} {width} {eyes}: {n}");
+        }
+    }
 
     #[test]
     fn sizes_parse_with_binary_units() {

@@ -209,6 +209,7 @@ fn stored_radii_are_kept_by_the_level_of_detail_read() {
         lod: Lod::Pixels {
             width: 256,
             pixels: 1.0,
+            floor: 0,
         },
         ..PrepareOptions::default()
     };
@@ -249,6 +250,7 @@ fn a_read_decodes_only_the_attributes_asked_for() {
             lod: Lod::Pixels {
                 width: 512,
                 pixels: 1.0,
+                floor: 0,
             },
             fields,
             ..PrepareOptions::default()

@@ -1,8 +1,8 @@
 //! `serve` of an indexed scan through its level of detail: the render thread draws the COPC
 //! file's octree nodes its camera needs, kept in a node cache across requests. With every node
 //! selected, the pairs it answers, per click (`/api/render`) and per live frame, are bit for
-//! bit those of the scan kept resident; at the default threshold they cover nearly the same
-//! pixels.
+//! bit those of the scan kept resident, as they are at a pixel with the default floor of points
+//! (it holds the statue); at a pixel alone they cover nearly the same pixels.
 #![cfg(all(feature = "web", feature = "gpu"))]
 
 #[path = "raster_common/gpu.rs"]
@@ -42,9 +42,9 @@ fn indexed(dir: &Path) -> PathBuf {
     copc
 }
 
-/// The index served as `serve` serves it, through its level of detail at `pixels` when given;
-/// `None` (after the GPU rule's notice) without an adapter.
-fn start(copc: &Path, pixels: Option<f64>) -> Option<(RenderThread, Arc<LiveScan>)> {
+/// The index served as `serve` serves it, through its level of detail at `(pixels, floor)`
+/// when given; `None` (after the GPU rule's notice) without an adapter.
+fn start(copc: &Path, lod: Option<(f64, u64)>) -> Option<(RenderThread, Arc<LiveScan>)> {
     let prepared = prepare(
         copc,
         &PrepareOptions {
@@ -61,12 +61,13 @@ fn start(copc: &Path, pixels: Option<f64>) -> Option<(RenderThread, Arc<LiveScan
         ..LiveOptions::default()
     };
     let mut scan = LiveScan::new(copc, prepared.scene, options).unwrap();
-    if let Some(pixels) = pixels {
+    if let Some((pixels, floor)) = lod {
         scan = scan.with_lod(ServedLod {
             path: copc.to_path_buf(),
             up: Up::Z,
             radii: NodeRadii::File,
             pixels,
+            floor,
             budget: 1 << 30,
         });
     }
@@ -136,7 +137,7 @@ fn coverage_iou(a: &[Frame], b: &[Frame]) -> f64 {
 }
 
 #[test]
-fn every_node_serves_the_resident_pairs_and_the_default_nearly_the_same_pixels() {
+fn every_node_serves_the_resident_pairs_and_a_pixel_alone_nearly_the_same_pixels() {
     let dir = tempfile::tempdir().unwrap();
     let copc = indexed(dir.path());
     let Some((off, scan)) = start(&copc, None) else {
@@ -149,20 +150,27 @@ fn every_node_serves_the_resident_pairs_and_the_default_nearly_the_same_pixels()
         assert!(frame.coverage_count() > (WIDTH * WIDTH / 20) as usize);
     }
 
-    let (every, _) = start(&copc, Some(0.0)).unwrap();
-    let (clicked, live) = served(&every, &requests);
-    drop(every);
-    for (i, (got, want)) in clicked.iter().zip(&want_clicked).enumerate() {
-        assert!(got.color == want.color, "click {i} differs from --lod off");
-    }
-    for (i, (got, want)) in live.iter().zip(&want_live).enumerate() {
-        assert!(
-            got.color == want.color,
-            "live frame {i} differs from --lod off"
-        );
+    // Every node (a zero threshold), and a pixel with the default floor, which holds the
+    // whole statue.
+    for lod in [(0.0, 0), (1.0, omnicloud::prepare::lod::LOD_FLOOR_POINTS)] {
+        let (every, _) = start(&copc, Some(lod)).unwrap();
+        let (clicked, live) = served(&every, &requests);
+        drop(every);
+        for (i, (got, want)) in clicked.iter().zip(&want_clicked).enumerate() {
+            assert!(
+                got.color == want.color,
+                "{lod:?}: click {i} differs from --lod off"
+            );
+        }
+        for (i, (got, want)) in live.iter().zip(&want_live).enumerate() {
+            assert!(
+                got.color == want.color,
+                "{lod:?}: live frame {i} differs from --lod off"
+            );
+        }
     }
 
-    let (default, _) = start(&copc, Some(1.0)).unwrap();
+    let (default, _) = start(&copc, Some((1.0, 0))).unwrap();
     let (clicked, live) = served(&default, &requests);
     let clicks_iou = coverage_iou(&clicked, &want_clicked);
     let live_iou = coverage_iou(&live, &want_live);

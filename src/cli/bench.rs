@@ -68,6 +68,11 @@ pub struct BenchArgs {
     /// the benchmarked width, a number of pixels sets that threshold, `off` reads every point.
     #[arg(long, value_name = "on|off|PIXELS")]
     pub lod: Option<LodChoice>,
+    /// Level of detail: points a view reads at least, where the file holds them; past the
+    /// threshold it refines the nodes that look coarsest first (a scan this small is drawn
+    /// whole, as with `--lod off`); 0 keeps the threshold alone.
+    #[arg(long, default_value_t = crate::prepare::lod::LOD_FLOOR_POINTS, value_name = "POINTS")]
+    pub lod_floor: u64,
     /// No progress bar or summary.
     #[arg(short, long)]
     pub quiet: bool,
@@ -188,7 +193,11 @@ pub fn run(given: &BenchArgs) -> Result<()> {
         };
         let width = args.width.unwrap_or(DEFAULT_WIDTH);
         let options = PrepareOptions {
-            lod: args.lod.unwrap_or(LodChoice::Pixels(1.0)).at_width(width),
+            lod: args
+                .lod
+                .unwrap_or(LodChoice::Pixels(1.0))
+                .at_width(width)
+                .with_floor(args.lod_floor),
             // The benchmark colours as `auto` does.
             fields: ColorMode::Auto.fields(),
             ..args.view.prepare_options()

@@ -83,6 +83,11 @@ pub struct RenderArgs {
     /// threshold, `off` reads every point.
     #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
     pub lod: LodChoice,
+    /// Level of detail: points a view reads at least, where the file holds them; past the
+    /// threshold it refines the nodes that look coarsest first (a scan this small is drawn
+    /// whole, as with `--lod off`); 0 keeps the threshold alone.
+    #[arg(long, default_value_t = crate::prepare::lod::LOD_FLOOR_POINTS, value_name = "POINTS")]
+    pub lod_floor: u64,
     /// Eye height above the local ground with --camera auto or center, metres [default: 1.7,
     /// or 20 median point spacings when higher (sparse aerial data)].
     #[arg(long, value_name = "H", value_parser = parse::distance)]
@@ -107,7 +112,10 @@ impl RenderArgs {
     /// with).
     pub fn prepare_options(&self) -> PrepareOptions {
         PrepareOptions {
-            lod: self.lod.at_width(self.render_width()),
+            lod: self
+                .lod
+                .at_width(self.render_width())
+                .with_floor(self.lod_floor()),
             height: self.view.eye_height(self.height),
             fields: self.draw.color.fields(),
             ..self.view.prepare_options()
@@ -148,6 +156,31 @@ impl RenderArgs {
             comfort_near: scale.length(self.comfort_near),
             view: self.view.in_file_units(scale),
             ..self.clone()
+        }
+    }
+
+    /// The memory cap in force and whether it is the default; `None` where none is given
+    /// and the available memory is unknown.
+    pub fn memory_cap(&self) -> Option<(u64, bool)> {
+        match self.max_memory {
+            Some(c) => Some((c, false)),
+            None => crate::memory::default_cap().map(|c| (c, true)),
+        }
+    }
+
+    /// `--lod-floor`, for the ray tracer at most the points its memory cap holds: the floor
+    /// adds detail where it is cheap and never makes a render refused.
+    fn lod_floor(&self) -> u64 {
+        match (self.draw.renderer, self.memory_cap()) {
+            (crate::render::RendererKind::Raytrace, Some((cap, _))) => {
+                let held = crate::memory::raytrace_points_within(
+                    cap,
+                    self.render_width(),
+                    self.view.eyes(),
+                );
+                self.lod_floor.min(held)
+            }
+            _ => self.lod_floor,
         }
     }
 

@@ -8,14 +8,6 @@ use crate::render::RendererKind;
 
 use super::render_args::RenderArgs;
 
-/// The cap in force and whether it is the default.
-fn cap(args: &RenderArgs) -> Option<(u64, bool)> {
-    match args.max_memory {
-        Some(c) => Some((c, false)),
-        None => memory::default_cap().map(|c| (c, true)),
-    }
-}
-
 /// Refuses, from the header's point count and before loading, a ray-traced render whose
 /// estimated peak exceeds the cap. With `--subsample auto` the kept count is not known yet:
 /// only the loading part is checked here, the rest by [`check_memory_after_subsample`].
@@ -23,7 +15,7 @@ pub(super) fn check_memory(args: &RenderArgs) -> Result<()> {
     if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
-    let Some((cap, is_default)) = cap(args) else {
+    let Some((cap, is_default)) = args.memory_cap() else {
         return Ok(());
     };
     if reads_copc_selection(args)? {
@@ -63,7 +55,7 @@ pub(super) fn check_memory_after_selection(args: &RenderArgs, read: u64, kept: u
     if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
-    let Some((cap, is_default)) = cap(args) else {
+    let Some((cap, is_default)) = args.memory_cap() else {
         return Ok(());
     };
     let estimate = memory::raytrace_estimate(read, kept, args.draw.width, args.view.eyes());
@@ -85,7 +77,7 @@ pub(super) fn check_memory_after_subsample(args: &RenderArgs, scene: &crate::Sce
     if args.draw.renderer != RendererKind::Raytrace {
         return Ok(());
     }
-    let Some((cap, is_default)) = cap(args) else {
+    let Some((cap, is_default)) = args.memory_cap() else {
         return Ok(());
     };
     let info = inputs_info(args)?;

@@ -75,6 +75,11 @@ pub struct ServeArgs {
     /// threshold, `off` keeps every point resident.
     #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
     pub lod: LodChoice,
+    /// Level of detail: points a view reads at least, where the file holds them; past the
+    /// threshold it refines the nodes that look coarsest first (a scan this small is drawn
+    /// whole, as with `--lod off`); 0 keeps the threshold alone.
+    #[arg(long, default_value_t = crate::prepare::lod::LOD_FLOOR_POINTS, value_name = "POINTS")]
+    pub lod_floor: u64,
     /// Level of detail: bytes of nodes kept on the GPU between renders, e.g. 2G [default: 80%
     /// of the available memory, at most 2 GiB].
     #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
@@ -108,6 +113,7 @@ fn served_lod(
         up: args.up,
         radii,
         pixels,
+        floor: args.lod_floor,
         budget: super::tour::node_cache_budget(args.max_memory),
     })
 }
@@ -204,10 +210,11 @@ pub fn run(args: &ServeArgs) -> Result<()> {
     }
     if let Some(lod) = lod {
         say(format!(
-            "{}: level of detail ({} px): each render reads the octree nodes it needs into a \
-             cache of {} on the GPU",
+            "{}: level of detail ({} px, floor {} points): each render reads the octree nodes \
+             it needs into a cache of {} on the GPU",
             args.file.display(),
             lod.pixels,
+            lod.floor,
             crate::memory::format_size(lod.budget)
         ));
         scan = scan.with_lod(lod);

@@ -98,6 +98,11 @@ pub struct TourArgs {
     /// a number of pixels sets that threshold, `off` keeps every point resident.
     #[arg(long, default_value = "on", value_name = "on|off|PIXELS")]
     pub lod: LodChoice,
+    /// Level of detail: points a view reads at least, where the file holds them; past the
+    /// threshold it refines the nodes that look coarsest first (a scan this small is drawn
+    /// whole, as with `--lod off`); 0 keeps the threshold alone.
+    #[arg(long, default_value_t = crate::prepare::lod::LOD_FLOOR_POINTS, value_name = "POINTS")]
+    pub lod_floor: u64,
     /// Memory cap: the ray tracer's scene and BVH, or the level of detail's nodes kept on the
     /// GPU between frames, e.g. 2G [default: 80% of the available memory, at most 2 GiB of
     /// nodes].
@@ -192,6 +197,7 @@ pub fn run_stations(render: &RenderArgs, matches: &clap::ArgMatches) -> Result<(
         quality: render.quality,
         overwrite: false,
         lod: render.lod,
+        lod_floor: render.lod_floor,
         shard: render.shard,
         shards: render.shards,
         draw: render.draw.clone(),
@@ -467,6 +473,7 @@ fn node_stream(
             radii,
             color,
             pixels,
+            floor: args.lod_floor,
             budget,
         },
         settings,
@@ -700,6 +707,7 @@ mod render_command_tests {
             &["black", "transparent", "#102030", "10,20,30"],
         ),
         ("quality", &["75", "90"]),
+        ("lod_floor", &["0", "250000"]),
     ];
 
     /// The options `render_command` carries from a tour: `render`'s long options that

@@ -6,7 +6,11 @@
 //! density. Walking down from the root, a node's detail is enough when its spacing, seen
 //! from the camera at the node's nearest point, spans less than the threshold angle (a pixel
 //! of the panorama, `2π / width`, by default): its children are not read. Every node on the
-//! way down is read (their points are part of the picture).
+//! way down is read (their points are part of the picture). A view that selects fewer points
+//! than a floor ([`LOD_FLOOR_POINTS`] by default) refines on past the threshold, the nodes
+//! that look coarsest first, while it stays within the floor: a scan that small is drawn
+//! whole, exactly as without level of detail, and a larger one spends the floor where the
+//! stopped surface is coarsest.
 //!
 //! Points where refinement stopped stand for the denser points left unread, so their
 //! spheres grow to [`LOD_RADIUS_FACTOR`] times their level's spacing (never below the
@@ -14,7 +18,7 @@
 //! at full detail keep the cloud's radius, measured (for `auto`) on those points only, so
 //! it matches the full cloud's.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BinaryHeap, HashMap, HashSet};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
@@ -33,6 +37,10 @@ use crate::scene::{Radii, Scene};
 /// Sphere radius of a point where refinement stopped, in units of its level's spacing.
 pub const LOD_RADIUS_FACTOR: f64 = 0.7;
 
+/// Points a view reads before level of detail spares any: below this the drawing costs little
+/// on any adapter, and a stopped node's closing spheres differ from the points they stand for.
+pub const LOD_FLOOR_POINTS: u64 = 1_000_000;
+
 /// Points read at most to place the camera automatically (whole levels from the root).
 pub const CAMERA_SURVEY_POINTS: u64 = 1 << 18;
 
@@ -50,12 +58,14 @@ pub enum Lod {
     #[default]
     Off,
     /// Refine until a node's spacing seen from the camera spans less than `pixels` pixels of
-    /// a panorama `width` pixels wide.
+    /// a panorama `width` pixels wide, then on while the view reads at most `floor` points.
     Pixels {
         /// Panorama width (per eye).
         width: u32,
         /// Threshold in pixels.
         pixels: f64,
+        /// Points a view reads at least, where the scan holds them ([`select`]).
+        floor: u64,
     },
 }
 
@@ -64,9 +74,21 @@ impl Lod {
     pub fn threshold(self) -> Option<f64> {
         match self {
             Lod::Off => None,
-            Lod::Pixels { width, pixels } => {
+            Lod::Pixels { width, pixels, .. } => {
                 Some(std::f64::consts::TAU / f64::from(width.max(1)) * pixels)
             }
+        }
+    }
+
+    /// The same level of detail with another floor (points); no change when off.
+    pub fn with_floor(self, floor: u64) -> Lod {
+        match self {
+            Lod::Off => Lod::Off,
+            Lod::Pixels { width, pixels, .. } => Lod::Pixels {
+                width,
+                pixels,
+                floor,
+            },
         }
     }
 }
@@ -81,11 +103,16 @@ pub enum LodChoice {
 }
 
 impl LodChoice {
-    /// The level of detail for a panorama `width` pixels wide.
+    /// The level of detail for a panorama `width` pixels wide, with the default floor
+    /// ([`LOD_FLOOR_POINTS`]).
     pub fn at_width(self, width: u32) -> Lod {
         match self {
             LodChoice::Off => Lod::Off,
-            LodChoice::Pixels(pixels) => Lod::Pixels { width, pixels },
+            LodChoice::Pixels(pixels) => Lod::Pixels {
+                width,
+                pixels,
+                floor: LOD_FLOOR_POINTS,
+            },
         }
     }
 }
@@ -129,22 +156,80 @@ impl Selection {
     }
 }
 
+/// A node where refinement stopped, ordered by the angle its spacing spans from the camera.
+struct Stopped {
+    angle: f64,
+    key: NodeKey,
+}
+
+impl PartialEq for Stopped {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for Stopped {}
+
+impl PartialOrd for Stopped {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl Ord for Stopped {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.angle
+            .total_cmp(&other.angle)
+            .then_with(|| other.key.cmp(&self.key))
+    }
+}
+
 /// Walks `octree` from the root with the camera at `camera` (file coordinates) and keeps
 /// refining while a node's spacing, seen from the camera at the node's nearest point, spans
-/// at least `threshold` radians.
-pub fn select(octree: &Octree, camera: DVec3, threshold: f64) -> Selection {
+/// at least `threshold` radians. Then, while the selection holds fewer than `floor` points,
+/// it refines the stopped node whose spacing spans the widest angle (all its children at
+/// once) as long as their points keep it within `floor`.
+pub fn select(octree: &Octree, camera: DVec3, threshold: f64, floor: u64) -> Selection {
+    let angle = |key: NodeKey| octree.node_spacing(key.depth) / octree.distance(key, camera);
     let mut nodes = HashMap::new();
+    let mut stopped = BinaryHeap::new();
+    let mut points = 0;
     let mut pending = vec![NodeKey::ROOT];
     while let Some(key) = pending.pop() {
-        if !octree.nodes.contains_key(&key) {
+        let Some(&n) = octree.nodes.get(&key) else {
             continue;
-        }
+        };
+        points += n;
         let distance = octree.distance(key, camera);
         let fine_enough = octree.node_spacing(key.depth) < threshold * distance;
         let children = octree.has_children(key);
         nodes.insert(key, fine_enough && children);
         if !fine_enough && children {
             pending.extend(key.children());
+        } else if children {
+            // Fine enough at a distance above zero: a finite angle.
+            stopped.push(Stopped {
+                angle: angle(key),
+                key,
+            });
+        }
+    }
+    while let Some(Stopped { key, .. }) = stopped.pop() {
+        let below: u64 = key.children().filter_map(|c| octree.nodes.get(&c)).sum();
+        if points + below > floor {
+            break;
+        }
+        points += below;
+        nodes.insert(key, false);
+        for child in key.children().filter(|c| octree.nodes.contains_key(c)) {
+            let children = octree.has_children(child);
+            nodes.insert(child, children);
+            if children {
+                stopped.push(Stopped {
+                    angle: angle(child),
+                    key: child,
+                });
+            }
         }
     }
     let mut read: Vec<NodeKey> = nodes
@@ -153,7 +238,6 @@ pub fn select(octree: &Octree, camera: DVec3, threshold: f64) -> Selection {
         .filter(|k| octree.nodes.get(k).is_some_and(|n| *n > 0))
         .collect();
     read.sort_unstable();
-    let points = read.iter().map(|k| octree.nodes[k]).sum();
     Selection {
         nodes,
         read,
@@ -363,20 +447,25 @@ pub struct LodReport {
     pub depth: u32,
     /// The threshold in pixels.
     pub pixels: f64,
+    /// Points a view reads at least, where the files hold them.
+    #[serde(default)]
+    pub floor: u64,
 }
 
 impl fmt::Display for LodReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "level of detail ({} px): read {} of {} points ({} nodes of {}, levels 0-{} of 0-{})",
+            "level of detail ({} px): read {} of {} points ({} nodes of {}, levels 0-{} of 0-{}; \
+             floor {} points)",
             self.pixels,
             self.points_read,
             self.points_total,
             self.nodes_read,
             self.nodes_total,
             self.deepest,
-            self.depth
+            self.depth,
+            self.floor
         )
     }
 }
@@ -413,7 +502,8 @@ pub fn read(
     options: &PrepareOptions,
     progress: &ProgressBar,
 ) -> Result<Option<(Scene, LoadReport, LodRead)>, PrepareError> {
-    let (Some(threshold), Lod::Pixels { pixels, .. }) = (options.lod.threshold(), options.lod)
+    let (Some(threshold), Lod::Pixels { pixels, floor, .. }) =
+        (options.lod.threshold(), options.lod)
     else {
         return Ok(None);
     };
@@ -451,11 +541,14 @@ pub fn read(
     };
     let camera_file = to_file(options.up, camera_world);
     let fields = options.fields_read();
+    // The view's floor is shared among the files as their points are.
+    let total: u64 = octrees.iter().map(|o| o.point_count).sum::<u64>().max(1);
     let files: Vec<(PathBuf, Octree, Selection)> = paths
         .iter()
         .zip(octrees)
         .map(|(p, o)| {
-            let s = select(&o, camera_file, threshold);
+            let share = (u128::from(floor) * u128::from(o.point_count) / u128::from(total)) as u64;
+            let s = select(&o, camera_file, threshold, share);
             (p.clone(), o, s)
         })
         .collect();
@@ -483,6 +576,7 @@ pub fn read(
             .unwrap_or(0),
         depth: files.iter().map(|(_, o, _)| o.depth()).max().unwrap_or(0),
         pixels,
+        floor,
     };
     Ok(Some((
         scene,
@@ -693,6 +787,8 @@ mod tests {
         assert!(dense.children().all(|c| c.parent() == Some(dense)));
     }
 
+    use std::f64::consts::TAU;
+
     #[test]
     fn refines_near_the_camera_only() {
         let o = full(4);
@@ -704,9 +800,11 @@ mod tests {
             Lod::Pixels {
                 width: 256,
                 pixels: 1.0,
+                floor: 0,
             }
             .threshold()
             .unwrap(),
+            0,
         );
         // The node holding the camera is refined to the bottom.
         let deepest = s.read.iter().map(|k| k.depth).max().unwrap();
@@ -731,7 +829,53 @@ mod tests {
             assert!(s.nodes.contains_key(&parent));
         }
         // A threshold of zero reads everything.
-        assert_eq!(select(&o, camera, 0.0).points, o.point_count);
+        assert_eq!(select(&o, camera, 0.0, 0).points, o.point_count);
+    }
+
+    #[test]
+    fn a_floor_refines_the_coarsest_looking_nodes_within_it() {
+        let o = full(4);
+        let camera = DVec3::new(1.0, 1.0, 1.0);
+        let threshold = TAU / 256.0;
+        let angle = |k: &NodeKey| o.node_spacing(k.depth) / o.distance(*k, camera);
+        let alone = select(&o, camera, threshold, 0);
+        // A floor below what the threshold reads changes nothing.
+        assert_eq!(select(&o, camera, threshold, alone.points), alone);
+        // A floor of the whole scan reads it whole, nothing stopped, as a zero threshold.
+        let whole = select(&o, camera, threshold, o.point_count);
+        assert_eq!(whole.points, o.point_count);
+        assert!(whole.stopped().is_empty());
+        assert_eq!(whole, select(&o, camera, 0.0, 0));
+        for floor in [3_000, 10_000, 30_000] {
+            let s = select(&o, camera, threshold, floor);
+            assert!(
+                s.points <= floor && s.points > alone.points,
+                "{floor}: {}",
+                s.points
+            );
+            assert_eq!(s.points, s.read.iter().map(|k| o.nodes[k]).sum::<u64>());
+            // Every node the threshold read is read, and what it stopped is either stopped
+            // or refined.
+            assert!(alone.read.iter().all(|k| s.nodes.contains_key(k)));
+            // The nodes still stopped look no coarser than any refined past the threshold,
+            // and refining the coarsest of them would pass the floor.
+            let stopped = s.stopped();
+            let refined_past = s.nodes.iter().filter(|(k, stop)| {
+                !**stop
+                    && o.has_children(**k)
+                    && o.node_spacing(k.depth) < threshold * o.distance(**k, camera)
+            });
+            let finest_refined = refined_past
+                .map(|(k, _)| angle(k))
+                .fold(f64::INFINITY, f64::min);
+            let coarsest = stopped
+                .iter()
+                .max_by(|a, b| angle(a).total_cmp(&angle(b)))
+                .unwrap();
+            assert!(angle(coarsest) <= finest_refined, "{floor}");
+            let below: u64 = coarsest.children().map(|c| o.nodes[&c]).sum();
+            assert!(s.points + below > floor, "{floor}");
+        }
     }
 
     #[test]

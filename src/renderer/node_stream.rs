@@ -55,6 +55,8 @@ pub struct NodeRules {
     /// A node is fine enough when its spacing spans less than this many pixels of the frame
     /// (0 reads every node).
     pub pixels: f64,
+    /// Points a frame reads at least, where the file holds them ([`lod::select`]).
+    pub floor: u64,
     /// Bytes of nodes kept on the GPU between frames.
     pub budget: u64,
 }
@@ -119,6 +121,7 @@ pub struct NodeStream {
     upload: RenderSettings,
     anchor: Anchor,
     pixels: f64,
+    floor: u64,
     cache: NodeCache<NodeId, UploadedScene>,
     last: FrameNodes,
     /// Nodes skipped as hidden, summed over the frames.
@@ -157,6 +160,7 @@ impl NodeStream {
             },
             anchor: Anchor::SceneZero,
             pixels: rules.pixels,
+            floor: rules.floor,
             cache: NodeCache::new(rules.budget),
             last: FrameNodes::default(),
             hidden: 0,
@@ -211,9 +215,10 @@ impl NodeStream {
     /// What renders, for messages.
     pub fn describe(&self) -> String {
         format!(
-            "level of detail ({} px): {} points in {} nodes, read per frame into a cache of {} \
-             on the GPU ({})",
+            "level of detail ({} px, floor {} points): {} points in {} nodes, read per frame into \
+             a cache of {} on the GPU ({})",
             self.pixels,
+            self.floor,
             self.copc.octree().point_count,
             self.copc.octree().nonempty_nodes(),
             crate::memory::format_size(self.cache.budget()),
@@ -235,7 +240,7 @@ impl NodeStream {
         let camera = lod::to_file(self.options.up, origin + settings.camera.center);
         let threshold =
             std::f64::consts::TAU / f64::from(settings.image.width.max(1)) * self.pixels;
-        let selection = lod::select(self.copc.octree(), camera, threshold);
+        let selection = lod::select(self.copc.octree(), camera, threshold, self.floor);
         // The octree and the nodes on the GPU are the file as it was opened: a frame drawn
         // from them and nodes of a changed file would be a wrong frame, not an error.
         self.stamp.check(&self.path)?;

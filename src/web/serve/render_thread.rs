@@ -464,6 +464,7 @@ fn node_stream(
         radii: lod.radii,
         color,
         pixels: lod.pixels,
+        floor: lod.floor,
         budget: lod.budget,
     };
     let mut stream = NodeStream::new(rasterizer, &lod.path, &options, rules, settings)?;

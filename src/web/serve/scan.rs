@@ -67,6 +67,8 @@ pub struct ServedLod {
     /// A node is fine enough when its spacing spans less than this many pixels (0 reads
     /// every node).
     pub pixels: f64,
+    /// Points a render reads at least, where the file holds them.
+    pub floor: u64,
     /// Bytes of nodes kept on the GPU between renders.
     pub budget: u64,
 }
