@@ -315,27 +315,33 @@ fn corrupt_hierarchy_is_a_clear_error() {
     assert!(run("off").status.success());
 }
 
+/// `omnicloud render` of the fixture, ray-traced 128 px wide from the centre, with `extra`
+/// options, to `out`.
+fn trace_128(extra: &[&str], out: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_omnicloud"))
+        .arg("render")
+        .arg(fixture())
+        .args([
+            "--renderer",
+            "raytrace",
+            "--width",
+            "128",
+            "--camera",
+            "0,0,1.7",
+        ])
+        .args(extra)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn render_reports_points_read() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pano.png");
     let read = |floor: &[&str]| {
-        let run = Command::new(env!("CARGO_BIN_EXE_omnicloud"))
-            .arg("render")
-            .arg(fixture())
-            .args([
-                "--renderer",
-                "raytrace",
-                "--width",
-                "128",
-                "--camera",
-                "0,0,1.7",
-            ])
-            .args(floor)
-            .arg("-o")
-            .arg(&out)
-            .output()
-            .unwrap();
+        let run = trace_128(floor, &out);
         let stderr = String::from_utf8_lossy(&run.stderr).into_owned();
         assert!(run.status.success(), "{stderr}");
         let line = stderr
@@ -412,23 +418,7 @@ fn streamed_plan_holds_the_selection() {
 fn memory_cap_counts_the_selection() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pano.png");
-    let run = |lod: &str| {
-        Command::new(env!("CARGO_BIN_EXE_omnicloud"))
-            .arg("render")
-            .arg(fixture())
-            .args([
-                "--renderer",
-                "raytrace",
-                "--width",
-                "128",
-                "--camera",
-                "0,0,1.7",
-            ])
-            .args(["--max-memory", "120M", "--lod", lod, "-o"])
-            .arg(&out)
-            .output()
-            .unwrap()
-    };
+    let run = |lod: &str| trace_128(&["--max-memory", "120M", "--lod", lod], &out);
     // The whole cloud needs an estimated 197.5 MiB; the selection a fraction of it.
     let off = run("off");
     assert!(!off.status.success());

@@ -201,7 +201,8 @@ pub fn select(octree: &Octree, camera: DVec3, threshold: f64, floor: u64) -> Sel
         };
         points += n;
         let distance = octree.distance(key, camera);
-        let fine_enough = octree.node_spacing(key.depth) < threshold * distance;
+        let spacing = octree.node_spacing(key.depth);
+        let fine_enough = spacing < threshold * distance;
         let children = octree.has_children(key);
         nodes.insert(key, fine_enough && children);
         if !fine_enough && children {
@@ -209,7 +210,7 @@ pub fn select(octree: &Octree, camera: DVec3, threshold: f64, floor: u64) -> Sel
         } else if children {
             // Fine enough at a distance above zero: a finite angle.
             stopped.push(Stopped {
-                angle: angle(key),
+                angle: spacing / distance,
                 key,
             });
         }
@@ -725,6 +726,7 @@ impl LodRead {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     /// A full octree of `depth` levels over a 64 m cube at the origin, 10 points a node.
     fn full(depth: u32) -> Octree {
@@ -786,8 +788,6 @@ mod tests {
         assert_eq!(NodeKey::ROOT.parent(), None);
         assert!(dense.children().all(|c| c.parent() == Some(dense)));
     }
-
-    use std::f64::consts::TAU;
 
     #[test]
     fn refines_near_the_camera_only() {
@@ -854,8 +854,7 @@ mod tests {
                 s.points
             );
             assert_eq!(s.points, s.read.iter().map(|k| o.nodes[k]).sum::<u64>());
-            // Every node the threshold read is read, and what it stopped is either stopped
-            // or refined.
+            // Every node the threshold read is read.
             assert!(alone.read.iter().all(|k| s.nodes.contains_key(k)));
             // The nodes still stopped look no coarser than any refined past the threshold,
             // and refining the coarsest of them would pass the floor.
