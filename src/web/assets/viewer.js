@@ -324,15 +324,24 @@
     $('frame-label').textContent = `${n + 1} / ${viewer.info.frames}`;
   }
 
-  // Seeks to the middle of frame n; settles once that frame can be drawn.
+  // Seeks to the middle of frame n; settles once that frame can be drawn. `seeked` can fire
+  // before the new frame reaches the compositor (a loaded machine uploads the old one), so
+  // where the browser reports presented frames the seek also waits for one, or a short while.
   function seekVideo(n) {
-    return new Promise((resolve, reject) => {
+    const presented = video.requestVideoFrameCallback
+      ? new Promise((resolve) => {
+        const timer = setTimeout(resolve, 500);
+        video.requestVideoFrameCallback(() => { clearTimeout(timer); resolve(); });
+      })
+      : Promise.resolve();
+    const seeked = new Promise((resolve, reject) => {
       const onSeeked = () => { video.removeEventListener('error', onError); resolve(); };
       const onError = () => { video.removeEventListener('seeked', onSeeked); reject(new Error('/video: seeking failed')); };
       video.addEventListener('seeked', onSeeked, { once: true });
       video.addEventListener('error', onError, { once: true });
-      video.currentTime = (n + 0.5) / viewer.info.video.fps;
     });
+    video.currentTime = (n + 0.5) / viewer.info.video.fps;
+    return seeked.then(() => presented);
   }
 
   async function showVideoFrame(n, token) {
