@@ -1,7 +1,8 @@
 //! `omnicloud serve`'s page on the sample scan in a real headless Chromium: clicking the map
 //! renders from the clicked spot; moving a pole-merge slider (fast, as a drag does) ends on a
 //! render of its last value that differs from the previous one near the pole and not at the
-//! horizon; with a stub WebXR runtime, "Enter VR" asks for `immersive-vr` and draws both
+//! horizon; a busy answer (503, Retry-After) to the newest request is asked again and its
+//! render shown; with a stub WebXR runtime, "Enter VR" asks for `immersive-vr` and draws both
 //! eyes. Chromium and its flags: `browser_common`. Without Chromium the tests skip with a
 //! notice (and fail under `OMNICLOUD_REQUIRE_BROWSER=1`); without a GPU adapter they follow
 //! the GPU rule (`OMNICLOUD_REQUIRE_GPU=1`).
@@ -154,6 +155,46 @@ fn clicking_the_map_renders_from_the_clicked_spot() {
     );
 }
 
+#[test]
+fn a_busy_answer_to_the_newest_request_is_asked_again_and_its_render_shown() {
+    let Some((chromium, server)) = set_up() else {
+        return;
+    };
+    let addr = server.addr();
+    let tab = open_page(&chromium, addr, None);
+    // The server's answer when more renders wait than it lets wait (`RenderFailure::Busy`),
+    // given here to the page's next render request.
+    js(
+        &tab,
+        "(() => { const real = window.fetch; let busy = 1; \
+         window.fetch = (url, options) => String(url).startsWith('/api/render') && busy-- > 0 \
+           ? Promise.resolve(new Response('too many renders asked for at once; try again later', \
+               { status: 503, headers: { 'Retry-After': '1' } })) \
+           : real(url, options); })()",
+    );
+    let before = js(&tab, "live.seq").as_u64().unwrap();
+    let (x, y) = UNDER_TREES;
+    let started = std::time::Instant::now();
+    js(&tab, &format!("live.standAt({x}, {y})"));
+    let shown = settled(&tab);
+    let waited = started.elapsed();
+    assert_eq!(
+        shown["seq"].as_u64(),
+        Some(before + 2),
+        "the busy request is asked again once and that render shown: {shown}"
+    );
+    assert_eq!(js(&tab, "live.error"), serde_json::Value::Null);
+    assert!(
+        shown["url"].as_str().unwrap().contains(&format!("seq={}", before + 2)),
+        "{shown}"
+    );
+    // It waited the pause the server named (1 s) before asking again.
+    assert!(waited.as_secs_f64() >= 1.0, "asked again after {waited:?}");
+    let camera = &shown["camera"];
+    assert!((camera[0].as_f64().unwrap() - x).abs() < 0.5, "{shown}");
+    assert!((camera[1].as_f64().unwrap() - y).abs() < 0.5, "{shown}");
+}
+
 /// Rows of one eye of a top-bottom pair whose latitude lies in `lat` (degrees).
 fn rows(eye: u32, lat: std::ops::Range<f64>) -> impl Iterator<Item = u32> {
     let h = WIDTH / 2;
@@ -208,7 +249,8 @@ fn a_fast_pole_merge_slider_ends_on_its_last_value_and_changes_only_the_pole_row
     assert_eq!(
         shown["seq"],
         js(&tab, "live.seq"),
-        "the last request's render is shown"
+        "the last request's render is shown (shown {shown}, error {})",
+        js(&tab, "live.error")
     );
     let url = shown["url"].as_str().unwrap();
     assert!(url.contains("north=marrinan%3A0%2C0%2C3"), "{url}");

@@ -3,7 +3,8 @@
 // (viewer.js) through viewer.showImage. Requests carry the page's name and a sequence
 // number: the server renders only the newest of a page's waiting requests and answers the
 // others 409, and an answer older than the one on screen is dropped, so a fast slider always
-// ends on its last value.
+// ends on its last value. A newest request answered 503 (too many renders waiting) is asked
+// again after the Retry-After pause.
 'use strict';
 
 (() => {
@@ -80,6 +81,10 @@
     }
   }
 
+  // Busy answers in a row asked again for before the page shows the error.
+  const MAX_RETRIES = 5;
+  let retries = 0;
+
   async function request() {
     if (!live.camera) return;  // a slider moved before the scan's description arrived
     const seq = ++live.seq;
@@ -102,7 +107,17 @@
     const body = await response.blob();
     // A newer request replaced this one on the server, or one already shows a newer frame.
     if (response.status === 409 || seq < live.shownSeq) return;
+    // The server had as many renders waiting as it lets wait (a burst of slider events from
+    // several pages): ask again for the newest settings, after the pause it names.
+    const retryAfter = Number(response.headers.get('Retry-After'));
+    if (response.status === 503 && retryAfter > 0 && seq === live.seq && retries < MAX_RETRIES) {
+      retries += 1;
+      $('timing').textContent = 'server busy, asking again…';
+      setTimeout(request, Math.min(retryAfter, 5) * 1000);
+      return;
+    }
     if (!response.ok) {
+      retries = 0;
       live.error = `render: ${response.status} ${(await body.text()).trim()}`;
       statusLine.textContent = live.error;
       live.shownSeq = Math.max(live.shownSeq, seq);
@@ -121,6 +136,7 @@
     const image = await createImageBitmap(body, options);
     if (seq < live.shownSeq) return;
     live.shownSeq = seq;
+    retries = 0;
     live.error = null;
     statusLine.textContent = '';
     live.lastRender = { seq, url, camera, ms };
