@@ -185,7 +185,10 @@ fn a_busy_answer_to_the_newest_request_is_asked_again_and_its_render_shown() {
     );
     assert_eq!(js(&tab, "live.error"), serde_json::Value::Null);
     assert!(
-        shown["url"].as_str().unwrap().contains(&format!("seq={}", before + 2)),
+        shown["url"]
+            .as_str()
+            .unwrap()
+            .contains(&format!("seq={}", before + 2)),
         "{shown}"
     );
     // It waited the pause the server named (1 s) before asking again.
