@@ -107,8 +107,9 @@
     const body = await response.blob();
     // A newer request replaced this one on the server, or one already shows a newer frame.
     if (response.status === 409 || seq < live.shownSeq) return;
-    // The server had as many renders waiting as it lets wait (a burst of slider events from
-    // several pages): ask again for the newest settings, after the pause it names.
+    // The server had as many renders waiting as it lets wait (a burst over this page's
+    // connections, or other pages rendering): ask again for the newest settings, after the
+    // pause it names.
     const retryAfter = Number(response.headers.get('Retry-After'));
     if (response.status === 503 && retryAfter > 0 && seq === live.seq && retries < MAX_RETRIES) {
       retries += 1;
